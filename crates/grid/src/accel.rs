@@ -1,0 +1,111 @@
+use gridrt_bbox::{Aabb, Ray, Real};
+
+/// What a primitive reports for one ray: the distance `t` along the ray and
+/// two surface parameters (barycentrics `u`, `v` for triangles; whatever the
+/// primitive finds useful otherwise, or zero).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PrimHit {
+    /// Ray parameter of the hit, in units of `ray.dir`.
+    pub t: Real,
+    /// First surface parameter (triangles: barycentric of vertex 1).
+    pub u: Real,
+    /// Second surface parameter (triangles: barycentric of vertex 2).
+    pub v: Real,
+}
+
+/// The answer of an accelerator's closest-hit query: the primitive's hit and
+/// the primitive's index in the accelerator's primitive slice.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Ray parameter of the hit, in units of `ray.dir`.
+    pub t: Real,
+    /// First surface parameter, as the primitive reported it.
+    pub u: Real,
+    /// Second surface parameter, as the primitive reported it.
+    pub v: Real,
+    /// Index of the primitive that was hit.
+    pub prim: u32,
+}
+
+impl Hit {
+    /// Combines a primitive's hit with the primitive's index.
+    #[inline]
+    #[must_use]
+    pub fn new(h: PrimHit, prim: u32) -> Self {
+        Self {
+            t: h.t,
+            u: h.u,
+            v: h.v,
+            prim,
+        }
+    }
+
+    /// The tie rule every accelerator follows: a hit is better when it is
+    /// nearer, and of two hits at the same `t` the lower primitive index wins.
+    #[inline]
+    #[must_use]
+    pub fn is_better_than(&self, other: &Hit) -> bool {
+        self.t < other.t || (self.t == other.t && self.prim < other.prim)
+    }
+}
+
+/// Something a ray can hit. Accelerators are generic over it (static
+/// dispatch: no `dyn` in the hot path).
+///
+/// Queries take a **closed** interval `[t_min, t_max]`: a hit at exactly
+/// `t_min` or `t_max` counts.
+pub trait Primitive: Sync {
+    /// A box that holds the whole primitive.
+    fn bounds(&self) -> Aabb;
+
+    /// The nearest hit with `t` in `[t_min, t_max]`, if any.
+    fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit>;
+
+    /// Whether there is any hit with `t` in `[t_min, t_max]` (shadow rays).
+    #[inline]
+    fn any_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> bool {
+        self.closest_hit(ray, t_min, t_max).is_some()
+    }
+
+    /// Whether the primitive may touch the closed box `cell`. The default is
+    /// the conservative bounds test; a primitive can answer exactly
+    /// (triangle–box SAT, sphere–box distance) so that a grid built with exact
+    /// insertion keeps fewer "might be in the cell" references. It must never
+    /// answer `false` for a box that the primitive touches.
+    #[inline]
+    fn overlaps_box(&self, cell: &Aabb) -> bool {
+        self.bounds().overlaps(cell)
+    }
+}
+
+/// A structure that answers ray queries over a set of primitives it owns.
+///
+/// Every implementation returns the same answer for the same query: the hit
+/// with the smallest `t` in `[t_min, t_max]`, ties going to the lower
+/// primitive index ([`Hit::is_better_than`]).
+pub trait Accelerator: Sync {
+    /// The primitive type.
+    type Prim: Primitive;
+    /// Per-ray working memory owned by the caller (for example a mailbox),
+    /// made once per thread with [`Accelerator::scratch`] and reused.
+    type Scratch: Send;
+
+    /// Fresh working memory for one thread's queries.
+    fn scratch(&self) -> Self::Scratch;
+
+    /// The primitives, in the order their indices refer to.
+    fn primitives(&self) -> &[Self::Prim];
+
+    /// The nearest hit with `t` in `[t_min, t_max]`.
+    fn closest_hit(
+        &self,
+        ray: &Ray,
+        t_min: Real,
+        t_max: Real,
+        scratch: &mut Self::Scratch,
+    ) -> Option<Hit>;
+
+    /// Whether anything is hit with `t` in `[t_min, t_max]`; stops at the
+    /// first occluder found.
+    fn any_hit(&self, ray: &Ray, t_min: Real, t_max: Real, scratch: &mut Self::Scratch) -> bool;
+}

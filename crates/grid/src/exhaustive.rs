@@ -1,0 +1,82 @@
+use crate::{Accelerator, Hit, Primitive};
+use gridrt_bbox::{Ray, Real};
+
+/// The baseline: every query tests every primitive, in index order.
+///
+/// It is the ground truth the grid is tested against and the "exhaustive"
+/// column of the speed-up table. The loop is kept plain and tight so that the
+/// comparison is fair.
+///
+/// ```
+/// use gridrt_grid::{Aabb, Accelerator, Exhaustive, PrimHit, Primitive, Ray, Real, Vec3};
+///
+/// /// A sphere at `c` with radius `r` (just enough for the example).
+/// struct Ball(Vec3, Real);
+/// impl Primitive for Ball {
+///     fn bounds(&self) -> Aabb {
+///         Aabb::new(self.0 - Vec3::splat(self.1), self.0 + Vec3::splat(self.1))
+///     }
+///     fn closest_hit(&self, ray: &Ray, t0: Real, t1: Real) -> Option<PrimHit> {
+///         let oc = ray.origin - self.0;
+///         let (a, b, c) = (ray.dir.dot(ray.dir), oc.dot(ray.dir), oc.dot(oc) - self.1 * self.1);
+///         let disc = b * b - a * c;
+///         if disc < 0.0 { return None; }
+///         let t = (-b - disc.sqrt()) / a;
+///         (t0..=t1).contains(&t).then_some(PrimHit { t, u: 0.0, v: 0.0 })
+///     }
+/// }
+///
+/// let acc = Exhaustive::new(vec![Ball(Vec3::new(0.0, 0.0, -5.0), 1.0), Ball(Vec3::new(0.0, 0.0, -3.0), 1.0)]);
+/// let hit = acc.closest_hit(&Ray::new(Vec3::ZERO, -Vec3::Z), 0.0, Real::INFINITY, &mut ()).unwrap();
+/// assert_eq!((hit.prim, hit.t), (1, 2.0));
+/// ```
+#[derive(Clone, Debug)]
+pub struct Exhaustive<P> {
+    prims: Vec<P>,
+}
+
+impl<P: Primitive> Exhaustive<P> {
+    /// Wraps the primitives; nothing is built.
+    #[must_use]
+    pub fn new(prims: Vec<P>) -> Self {
+        Self { prims }
+    }
+
+    /// Gives the primitives back.
+    #[must_use]
+    pub fn into_primitives(self) -> Vec<P> {
+        self.prims
+    }
+}
+
+impl<P: Primitive> Accelerator for Exhaustive<P> {
+    type Prim = P;
+    type Scratch = ();
+
+    fn scratch(&self) {}
+
+    fn primitives(&self) -> &[P] {
+        &self.prims
+    }
+
+    #[inline]
+    fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real, _: &mut ()) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        let mut t_far = t_max;
+        for (i, p) in self.prims.iter().enumerate() {
+            // Strictly nearer only: on a tie in t the earlier (lower) index stays.
+            if let Some(h) = p.closest_hit(ray, t_min, t_far) {
+                if best.map_or(true, |b| h.t < b.t) {
+                    t_far = h.t;
+                    best = Some(Hit::new(h, i as u32));
+                }
+            }
+        }
+        best
+    }
+
+    #[inline]
+    fn any_hit(&self, ray: &Ray, t_min: Real, t_max: Real, _: &mut ()) -> bool {
+        self.prims.iter().any(|p| p.any_hit(ray, t_min, t_max))
+    }
+}

@@ -1,0 +1,2 @@
+//! Morton (Z-order) codes. Knows integers only: **no vectors, no boxes, no grids**.
+#![warn(missing_docs)]

@@ -1,0 +1,243 @@
+//! The scene model: what `gridrt-io` fills in and the renderer reads.
+//!
+//! Positions are in world space (meshes arrive already transformed).
+//! Right-handed coordinates, y up by convention of the cameras in fixtures.
+//! Colours are linear RGB (`glam::Vec3`, always f32, whatever `Real` is).
+
+use gridrt_bbox::{Real, Vec3};
+
+/// A linear-RGB colour (always f32).
+pub type Rgb = glam::Vec3;
+
+/// Index into [`Scene::materials`].
+pub type MaterialId = u32;
+
+/// Everything needed to render one image.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// The camera.
+    pub camera: Camera,
+    /// Resolution, samples, depth, background.
+    pub settings: Settings,
+    /// Materials, referred to by index from objects.
+    pub materials: Vec<Material>,
+    /// Light sources (including ambient light).
+    pub lights: Vec<Light>,
+    /// Geometry, each with a material.
+    pub objects: Vec<Object>,
+}
+
+/// Render settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// Image width in pixels (at least 1).
+    pub width: u32,
+    /// Image height in pixels (at least 1).
+    pub height: u32,
+    /// Samples per pixel (at least 1). One sample goes through the pixel centre.
+    pub spp: u32,
+    /// Longest chain of reflection/refraction bounces after the camera ray.
+    pub max_depth: u32,
+    /// Radiance of rays that hit nothing.
+    pub background: Rgb,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            width: 400,
+            height: 400,
+            spp: 1,
+            max_depth: 5,
+            background: Rgb::ZERO,
+        }
+    }
+}
+
+/// A camera: where it is, where it looks, and how it projects.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera {
+    /// Eye position.
+    pub eye: Vec3,
+    /// The point the camera looks at (the view direction is `look_at − eye`).
+    pub look_at: Vec3,
+    /// Up vector (need not be orthogonal to the view direction, must not be parallel).
+    pub up: Vec3,
+    /// How image positions map to rays.
+    pub projection: Projection,
+}
+
+/// Camera projections.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    /// Pinhole camera with a vertical field of view in degrees.
+    Perspective {
+        /// Vertical field of view, degrees, in (0, 180).
+        vfov_deg: Real,
+    },
+    /// Suffern's pinhole: a view plane at `distance` from the eye, pixels of
+    /// `pixel_size` world units. The ray through pixel (c, r), r = 0 at the
+    /// bottom, has direction `s·(c − w/2 + ½)·u + s·(r − h/2 + ½)·v − d·w`.
+    ViewPlane {
+        /// Eye to view-plane distance.
+        distance: Real,
+        /// Size of one pixel on the view plane.
+        pixel_size: Real,
+    },
+    /// Parallel rays; `height` is the world-space height of the image.
+    Orthographic {
+        /// World-space height of the visible region.
+        height: Real,
+    },
+}
+
+/// A piece of geometry with its material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Object {
+    /// The shape.
+    pub geometry: Geometry,
+    /// Index into [`Scene::materials`].
+    pub material: MaterialId,
+}
+
+/// Shapes a scene can hold.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Geometry {
+    /// A sphere (radius > 0).
+    Sphere {
+        /// Centre.
+        center: Vec3,
+        /// Radius, > 0.
+        radius: Real,
+    },
+    /// An axis-aligned box.
+    Cuboid {
+        /// Smallest corner.
+        min: Vec3,
+        /// Largest corner.
+        max: Vec3,
+    },
+    /// An infinite plane: kept outside the grid and tested separately.
+    Plane {
+        /// A point on the plane.
+        point: Vec3,
+        /// The normal (need not be unit length, must not be zero).
+        normal: Vec3,
+    },
+    /// A triangle mesh in world space; each triangle goes into the grid.
+    Mesh(Mesh),
+}
+
+/// A triangle mesh with shared vertex arrays.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    /// A name for reports (file and group, or node and primitive).
+    pub name: String,
+    /// Vertex positions, world space.
+    pub positions: Vec<Vec3>,
+    /// Per-vertex normals for smooth shading: empty, or one per position.
+    pub normals: Vec<Vec3>,
+    /// Per-vertex texture coordinates: empty, or one per position.
+    pub uvs: Vec<glam::Vec2>,
+    /// Triangles as indices into `positions` (counter-clockwise = front).
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// Surface materials (Suffern's ray-cast and Whitted chapters).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Material {
+    /// Lambertian: ambient `ka·color` plus diffuse `kd·color/π`.
+    Matte {
+        /// Albedo.
+        color: Rgb,
+        /// Ambient coefficient.
+        ka: f32,
+        /// Diffuse coefficient.
+        kd: f32,
+    },
+    /// Matte plus a Phong glossy highlight `ks·(r·wo)^exp`.
+    Phong {
+        /// Diffuse albedo.
+        color: Rgb,
+        /// Ambient coefficient.
+        ka: f32,
+        /// Diffuse coefficient.
+        kd: f32,
+        /// Specular coefficient.
+        ks: f32,
+        /// Phong exponent.
+        exp: f32,
+        /// Colour of the highlight.
+        specular: Rgb,
+    },
+    /// Phong plus perfect mirror reflection `kr·reflect`. With ka = kd = ks
+    /// = 0 it is a perfect mirror.
+    Reflective {
+        /// Diffuse albedo.
+        color: Rgb,
+        /// Ambient coefficient.
+        ka: f32,
+        /// Diffuse coefficient.
+        kd: f32,
+        /// Specular coefficient.
+        ks: f32,
+        /// Phong exponent.
+        exp: f32,
+        /// Mirror reflectance.
+        kr: f32,
+        /// Colour of the mirror reflection.
+        reflect: Rgb,
+    },
+    /// A smooth dielectric (glass, water): Fresnel-weighted reflection and
+    /// refraction, total internal reflection, optional tint per unit length
+    /// inside (Beer's law; white = clear).
+    Dielectric {
+        /// Index of refraction inside (outside is 1).
+        ior: f32,
+        /// Transmittance per unit distance inside.
+        tint: Rgb,
+    },
+    /// Emits `color·strength` and reflects nothing.
+    Emissive {
+        /// Emitted colour.
+        color: Rgb,
+        /// Emitted radiance scale.
+        strength: f32,
+    },
+}
+
+/// Light sources.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Light {
+    /// Constant light from everywhere; lights `ka·color` of every material.
+    Ambient {
+        /// Colour.
+        color: Rgb,
+        /// Radiance scale.
+        intensity: f32,
+    },
+    /// A point light.
+    Point {
+        /// Position.
+        position: Vec3,
+        /// Colour.
+        color: Rgb,
+        /// Radiance scale.
+        intensity: f32,
+        /// Divide by distance² (physically right); off = Suffern's default.
+        inverse_square: bool,
+        /// Whether it casts shadows.
+        shadows: bool,
+    },
+    /// A light infinitely far away.
+    Directional {
+        /// Direction **towards** the light (need not be unit length).
+        direction: Vec3,
+        /// Colour.
+        color: Rgb,
+        /// Radiance scale.
+        intensity: f32,
+        /// Whether it casts shadows.
+        shadows: bool,
+    },
+}
