@@ -48,12 +48,26 @@ impl Aabb {
     }
 
     /// The smallest box holding every point; [`Aabb::EMPTY`] for none.
+    ///
+    /// ```
+    /// use gridrt_bbox::{Aabb, Vec3};
+    /// let b = Aabb::from_points([Vec3::new(1.0, 5.0, -1.0), Vec3::new(-2.0, 0.0, 4.0)]);
+    /// assert_eq!(b, Aabb::new(Vec3::new(-2.0, 0.0, -1.0), Vec3::new(1.0, 5.0, 4.0)));
+    /// assert_eq!(Aabb::from_points([]), Aabb::EMPTY);
+    /// ```
     #[must_use]
     pub fn from_points<I: IntoIterator<Item = Vec3>>(points: I) -> Self {
         points.into_iter().fold(Self::EMPTY, Self::grow)
     }
 
     /// True when the box holds no point (`min > max` on some axis).
+    ///
+    /// ```
+    /// use gridrt_bbox::{Aabb, Vec3};
+    /// assert!(Aabb::EMPTY.is_empty());
+    /// assert!(Aabb::new(Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 1.0)).is_empty());
+    /// assert!(!Aabb::new(Vec3::ONE, Vec3::ONE).is_empty()); // a point box
+    /// ```
     #[inline]
     #[must_use]
     pub fn is_empty(&self) -> bool {
@@ -61,20 +75,57 @@ impl Aabb {
     }
 
     /// The smallest box holding both boxes.
+    ///
+    /// An empty operand is ignored, whatever its corners: a box inverted on
+    /// one axis only (say `min.x > max.x` but a wide y range) holds no point,
+    /// so it must not widen the result on its other axes.
+    ///
+    /// ```
+    /// use gridrt_bbox::{Aabb, Vec3};
+    /// let a = Aabb::new(Vec3::ZERO, Vec3::ONE);
+    /// let b = Aabb::new(Vec3::splat(2.0), Vec3::splat(3.0));
+    /// assert_eq!(a.union(b), Aabb::new(Vec3::ZERO, Vec3::splat(3.0)));
+    /// assert_eq!(a.union(Aabb::EMPTY), a);
+    /// ```
     #[inline]
     #[must_use]
     pub fn union(self, other: Self) -> Self {
+        if other.is_empty() {
+            return self;
+        }
+        if self.is_empty() {
+            return other;
+        }
         Self::new(self.min.min(other.min), self.max.max(other.max))
     }
 
     /// The smallest box holding this box and the point.
+    ///
+    /// Growing an empty box (of any corners) gives the point box `[p, p]`.
+    ///
+    /// ```
+    /// use gridrt_bbox::{Aabb, Vec3};
+    /// let p = Vec3::new(1.0, -2.0, 3.0);
+    /// assert_eq!(Aabb::EMPTY.grow(p), Aabb::new(p, p));
+    /// assert!(Aabb::EMPTY.grow(p).grow(Vec3::ZERO).contains(p));
+    /// ```
     #[inline]
     #[must_use]
     pub fn grow(self, p: Vec3) -> Self {
+        if self.is_empty() {
+            return Self::new(p, p);
+        }
         Self::new(self.min.min(p), self.max.max(p))
     }
 
     /// `max − min`: the box's size per axis (zero for an empty box).
+    ///
+    /// ```
+    /// use gridrt_bbox::{Aabb, Vec3};
+    /// let b = Aabb::new(Vec3::new(-1.0, 0.0, 2.0), Vec3::new(1.0, 3.0, 2.0));
+    /// assert_eq!(b.extent(), Vec3::new(2.0, 3.0, 0.0));
+    /// assert_eq!(Aabb::EMPTY.extent(), Vec3::ZERO);
+    /// ```
     #[inline]
     #[must_use]
     pub fn extent(&self) -> Vec3 {
@@ -86,6 +137,12 @@ impl Aabb {
     }
 
     /// The centre of the box (meaningless for an empty box).
+    ///
+    /// ```
+    /// use gridrt_bbox::{Aabb, Vec3};
+    /// let b = Aabb::new(Vec3::new(-1.0, 0.0, 2.0), Vec3::new(1.0, 3.0, 2.0));
+    /// assert_eq!(b.centroid(), Vec3::new(0.0, 1.5, 2.0));
+    /// ```
     #[inline]
     #[must_use]
     pub fn centroid(&self) -> Vec3 {
@@ -93,6 +150,13 @@ impl Aabb {
     }
 
     /// The total area of the six faces (zero for an empty box).
+    ///
+    /// ```
+    /// use gridrt_bbox::{Aabb, Vec3};
+    /// let b = Aabb::new(Vec3::ZERO, Vec3::new(1.0, 2.0, 3.0));
+    /// assert_eq!(b.surface_area(), 22.0);
+    /// assert_eq!(Aabb::EMPTY.surface_area(), 0.0);
+    /// ```
     #[inline]
     #[must_use]
     pub fn surface_area(&self) -> Real {
@@ -101,6 +165,14 @@ impl Aabb {
     }
 
     /// True when the point lies in the closed box.
+    ///
+    /// ```
+    /// use gridrt_bbox::{Aabb, Vec3};
+    /// let b = Aabb::new(Vec3::ZERO, Vec3::ONE);
+    /// assert!(b.contains(Vec3::ONE)); // corners belong to the box
+    /// assert!(!b.contains(Vec3::new(0.5, 0.5, 1.5)));
+    /// assert!(!Aabb::EMPTY.contains(Vec3::ZERO));
+    /// ```
     #[inline]
     #[must_use]
     pub fn contains(&self, p: Vec3) -> bool {
@@ -108,13 +180,36 @@ impl Aabb {
     }
 
     /// True when the closed boxes share at least one point (touching counts).
+    /// An empty box overlaps nothing, not even itself.
+    ///
+    /// ```
+    /// use gridrt_bbox::{Aabb, Vec3};
+    /// let a = Aabb::new(Vec3::ZERO, Vec3::ONE);
+    /// let touching = Aabb::new(Vec3::new(1.0, 0.0, 0.0), Vec3::splat(2.0));
+    /// assert!(a.overlaps(&touching) && touching.overlaps(&a));
+    /// assert!(!a.overlaps(&Aabb::EMPTY));
+    /// ```
     #[inline]
     #[must_use]
     pub fn overlaps(&self, other: &Self) -> bool {
-        self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
+        // For a box empty on one axis only, the corner test alone can pass
+        // (`min.x > max.x` with both inside `other`'s x range), hence the
+        // explicit emptiness checks.
+        !self.is_empty()
+            && !other.is_empty()
+            && self.min.cmple(other.max).all()
+            && other.min.cmple(self.max).all()
     }
 
-    /// The axis (0 = x, 1 = y, 2 = z) along which the box is longest; x on ties.
+    /// The axis (0 = x, 1 = y, 2 = z) along which the box is longest; the
+    /// lowest axis on ties.
+    ///
+    /// ```
+    /// use gridrt_bbox::{Aabb, Vec3};
+    /// assert_eq!(Aabb::new(Vec3::ZERO, Vec3::new(1.0, 3.0, 2.0)).longest_axis(), 1);
+    /// assert_eq!(Aabb::new(Vec3::ZERO, Vec3::new(1.0, 2.0, 2.0)).longest_axis(), 1);
+    /// assert_eq!(Aabb::new(Vec3::ZERO, Vec3::ONE).longest_axis(), 0);
+    /// ```
     #[inline]
     #[must_use]
     pub fn longest_axis(&self) -> usize {
@@ -141,21 +236,35 @@ impl Aabb {
     ///   origin lies within the slab, faces included. We test that directly
     ///   instead of computing `0·∞ = NaN`, so an origin exactly on a slab
     ///   plane, or a ray lying in a face, always resolves the same way.
+    /// - A tiny but normal-reciprocal direction component can make a slab's
+    ///   t values overflow to ±∞; they are still ordered, never NaN. With
+    ///   `t_max = ∞` the answer may then be `(∞, ∞)`: the ray does reach the
+    ///   box, but beyond the largest finite [`Real`].
     /// - An empty box is always missed; a zero-thickness box is hit.
     /// - `t_min == t_max` asks whether the single point `ray.at(t_min)` is in
-    ///   the box.
+    ///   the box; `t_min > t_max` is always a miss.
+    ///
+    /// On a hit, `t_min <= t_enter <= t_exit <= t_max` and neither is NaN
+    /// (given a non-NaN range). A ray or box with NaN components gets an
+    /// unspecified answer, but never a NaN interval.
     ///
     /// ```
     /// use gridrt_bbox::{Aabb, Ray, Vec3};
     /// let b = Aabb::new(Vec3::ZERO, Vec3::ONE);
-    /// // A ray lying in the face x = 0, direction (0, 0, -0).
+    /// // A ray lying in the face x = 0, direction (-0, 0, -1).
     /// let r = Ray::new(Vec3::new(0.0, 0.5, 2.0), Vec3::new(-0.0, 0.0, -1.0));
     /// assert_eq!(b.hit(&r, 0.0, 10.0).map(|t| t.0), Some(1.0));
+    /// // The same ray moved to x = -1 misses: it runs beside the face.
+    /// let r = Ray::new(Vec3::new(-1.0, 0.5, 2.0), Vec3::new(-0.0, 0.0, -1.0));
+    /// assert_eq!(b.hit(&r, 0.0, 10.0), None);
     /// ```
     #[inline]
     #[must_use]
     pub fn hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<(Real, Real)> {
-        debug_assert!(!t_min.is_nan() && !t_max.is_nan(), "t range must not be NaN");
+        debug_assert!(
+            !t_min.is_nan() && !t_max.is_nan(),
+            "t range must not be NaN"
+        );
         if self.is_empty() {
             return None;
         }
@@ -166,8 +275,9 @@ impl Aabb {
             let o = ray.origin[a];
             let inv = ray.inv_dir[a];
             if inv.is_infinite() {
-                // Parallel to the slab: inside it for all t, or never.
-                if o < self.min[a] || o > self.max[a] {
+                // Parallel to the slab: inside it for all t, or never. The
+                // range form is false for a NaN origin too.
+                if !(self.min[a]..=self.max[a]).contains(&o) {
                     return None;
                 }
                 continue;
@@ -177,17 +287,149 @@ impl Aabb {
             if near > far {
                 std::mem::swap(&mut near, &mut far);
             }
-            far += far.abs() * widen;
+            // Widen the exit by 2·γ(3) of its magnitude. A tiny direction
+            // component can overflow `far` to −∞, and then `far + |far|·w`
+            // is −∞ + ∞ = NaN, which the comparisons below would silently
+            // skip (a false hit); `max` returns the non-NaN operand, −∞.
+            far = far.max(far + far.abs() * widen);
+            // Written so that a NaN `near` or `far` leaves t0/t1 unchanged.
             if near > t0 {
                 t0 = near;
             }
             if far < t1 {
                 t1 = far;
             }
-            if t0 > t1 {
-                return None;
-            }
         }
-        Some((t0, t1))
+        if t0 <= t1 {
+            Some((t0, t1))
+        } else {
+            None
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const INF: Real = Real::INFINITY;
+
+    fn unit() -> Aabb {
+        Aabb::new(Vec3::ZERO, Vec3::ONE)
+    }
+
+    /// Empty on the x axis only, but wide on y and z.
+    fn inverted_x() -> Aabb {
+        Aabb::new(Vec3::new(2.0, -10.0, -10.0), Vec3::new(1.0, 10.0, 10.0))
+    }
+
+    #[test]
+    fn default_is_empty() {
+        assert_eq!(Aabb::default(), Aabb::EMPTY);
+        assert!(Aabb::EMPTY.is_empty());
+        assert!(inverted_x().is_empty());
+        assert!(!unit().is_empty());
+        assert!(!Aabb::new(Vec3::ONE, Vec3::ONE).is_empty());
+    }
+
+    #[test]
+    fn empty_is_the_identity_of_union() {
+        assert_eq!(Aabb::EMPTY.union(unit()), unit());
+        assert_eq!(unit().union(Aabb::EMPTY), unit());
+        assert!(Aabb::EMPTY.union(Aabb::EMPTY).is_empty());
+    }
+
+    #[test]
+    fn union_ignores_a_box_empty_on_one_axis() {
+        assert_eq!(unit().union(inverted_x()), unit());
+        assert_eq!(inverted_x().union(unit()), unit());
+    }
+
+    #[test]
+    fn grow_of_an_empty_box_is_the_point() {
+        let p = Vec3::new(0.5, 0.5, 0.5);
+        assert_eq!(inverted_x().grow(p), Aabb::new(p, p));
+        assert_eq!(Aabb::EMPTY.grow(p), Aabb::new(p, p));
+        assert_eq!(unit().grow(p), unit());
+        assert_eq!(
+            unit().grow(Vec3::splat(2.0)),
+            Aabb::new(Vec3::ZERO, Vec3::splat(2.0))
+        );
+    }
+
+    #[test]
+    fn empty_boxes_overlap_nothing() {
+        assert!(!inverted_x().overlaps(&unit()));
+        assert!(!unit().overlaps(&inverted_x()));
+        assert!(!Aabb::EMPTY.overlaps(&Aabb::EMPTY));
+        assert!(unit().overlaps(&unit()));
+    }
+
+    #[test]
+    fn overlaps_counts_touching_and_rejects_gaps() {
+        let right = Aabb::new(Vec3::new(1.0, 0.0, 0.0), Vec3::new(2.0, 1.0, 1.0));
+        let gap = Aabb::new(Vec3::new(1.5, 0.0, 0.0), Vec3::new(2.0, 1.0, 1.0));
+        assert!(unit().overlaps(&right));
+        assert!(!unit().overlaps(&gap));
+        assert!(!gap.overlaps(&unit()));
+    }
+
+    #[test]
+    fn measures_of_empty_and_flat_boxes() {
+        assert_eq!(Aabb::EMPTY.extent(), Vec3::ZERO);
+        assert_eq!(inverted_x().extent(), Vec3::ZERO);
+        assert_eq!(Aabb::EMPTY.surface_area(), 0.0);
+        let flat = Aabb::new(Vec3::ZERO, Vec3::new(2.0, 3.0, 0.0));
+        assert_eq!(flat.surface_area(), 12.0);
+        assert_eq!(flat.longest_axis(), 1);
+        assert_eq!(
+            Aabb::new(Vec3::ZERO, Vec3::new(1.0, 1.0, 5.0)).longest_axis(),
+            2
+        );
+    }
+
+    #[test]
+    fn contains_is_closed() {
+        let b = unit();
+        for p in [Vec3::ZERO, Vec3::ONE, Vec3::new(0.0, 1.0, 0.5)] {
+            assert!(b.contains(p), "{p:?}");
+        }
+        for p in [
+            Vec3::new(-Real::EPSILON, 0.5, 0.5),
+            Vec3::new(0.5, 1.0 + Real::EPSILON, 0.5),
+        ] {
+            assert!(!b.contains(p), "{p:?}");
+        }
+    }
+
+    #[test]
+    fn hit_through_the_middle() {
+        let r = Ray::new(Vec3::new(0.5, 0.5, -1.0), Vec3::new(0.0, 0.0, 2.0));
+        let (t0, t1) = unit().hit(&r, 0.0, INF).unwrap();
+        assert_eq!(t0, 0.5);
+        assert!((1.0..=1.0 + 4.0 * gamma(3)).contains(&t1));
+    }
+
+    #[test]
+    fn hit_clips_to_the_t_range() {
+        let r = Ray::new(Vec3::new(0.5, 0.5, -1.0), Vec3::Z);
+        assert_eq!(unit().hit(&r, 1.25, 1.5), Some((1.25, 1.5)));
+        assert_eq!(unit().hit(&r, 0.0, 0.5), None);
+        assert_eq!(unit().hit(&r, 2.5, INF), None);
+    }
+
+    #[test]
+    fn hit_with_reversed_range_misses_even_for_a_zero_direction() {
+        let r = Ray::new(Vec3::splat(0.5), Vec3::ZERO);
+        assert_eq!(unit().hit(&r, 0.0, 1.0), Some((0.0, 1.0)));
+        assert_eq!(unit().hit(&r, 1.0, 0.0), None);
+        let r = Ray::new(Vec3::splat(0.5), Vec3::X);
+        assert_eq!(unit().hit(&r, 0.4, 0.3), None);
+    }
+
+    #[test]
+    fn hit_misses_a_box_empty_on_one_axis() {
+        let r = Ray::new(Vec3::new(-5.0, 0.0, 0.0), Vec3::X);
+        assert_eq!(inverted_x().hit(&r, 0.0, INF), None);
     }
 }

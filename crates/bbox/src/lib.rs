@@ -6,11 +6,11 @@
 //! switches precision with one feature.
 //!
 //! ```
-//! use gridrt_bbox::{Aabb, Ray, Vec3};
+//! use gridrt_bbox::{Aabb, Ray, Real, Vec3};
 //!
 //! let unit = Aabb::new(Vec3::ZERO, Vec3::ONE);
 //! let ray = Ray::new(Vec3::new(0.5, 0.5, -1.0), Vec3::Z);
-//! let (t_enter, t_exit) = unit.hit(&ray, 0.0, f32::INFINITY as gridrt_bbox::Real).unwrap();
+//! let (t_enter, t_exit) = unit.hit(&ray, 0.0, Real::INFINITY).unwrap();
 //! assert_eq!(t_enter, 1.0);
 //! assert!(t_exit >= 2.0);
 //! ```
@@ -28,3 +28,17 @@ mod ray;
 pub use aabb::Aabb;
 pub use math::{gamma, Real, Vec3};
 pub use ray::Ray;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reexports_work_together() {
+        let b = Aabb::new(Vec3::ZERO, Vec3::ONE);
+        let r = Ray::new(Vec3::splat(-1.0), Vec3::ONE);
+        let (t0, t1) = b.hit(&r, 0.0, Real::INFINITY).unwrap();
+        assert_eq!(t0, 1.0);
+        assert!(t1 >= 2.0 && t1 <= 2.0 * (1.0 + 2.0 * gamma(3)) + Real::EPSILON);
+    }
+}

@@ -32,3 +32,45 @@ pub fn gamma(n: u32) -> Real {
     let nu = n as Real * UNIT_ROUNDOFF;
     nu / (1.0 - nu)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unit_roundoff_is_half_an_ulp_of_one() {
+        // 1 + u is a tie and rounds to even (1); 1 + 2u is the next float.
+        // `black_box` keeps the sums at run time, in real rounding.
+        let one: Real = std::hint::black_box(1.0);
+        assert_eq!(one + UNIT_ROUNDOFF, 1.0);
+        assert_eq!(one + 2.0 * UNIT_ROUNDOFF, 1.0 + Real::EPSILON);
+        assert_eq!(UNIT_ROUNDOFF, Real::EPSILON / 2.0);
+    }
+
+    #[test]
+    fn gamma_is_zero_at_zero_and_increasing() {
+        assert_eq!(gamma(0), 0.0);
+        let mut prev = 0.0;
+        for n in 1..64 {
+            let g = gamma(n);
+            assert!(
+                g > prev,
+                "gamma({n}) = {g} not above gamma({}) = {prev}",
+                n - 1
+            );
+            // γ(n) = nu / (1 - nu) lies strictly above nu, and only just.
+            let nu = n as Real * UNIT_ROUNDOFF;
+            assert!(g > nu && g < 1.01 * nu);
+            prev = g;
+        }
+    }
+
+    #[test]
+    fn real_and_vec3_agree_on_precision() {
+        let expected = if cfg!(feature = "f64") { 8 } else { 4 };
+        assert_eq!(std::mem::size_of::<Real>(), expected);
+        let v = Vec3::splat(1.0 as Real);
+        let x: Real = v.x;
+        assert_eq!(x, 1.0);
+    }
+}
