@@ -1,23 +1,67 @@
 //! `cargo xtask <task>`: project automation (see the README).
+//!
+//! A thin binary: it parses arguments, calls the gridrt crates, and formats
+//! what they return. Scratch output goes under `target/`; generated docs go
+//! to `docs/`, written atomically.
+//!
+//! - `cargo xtask regress [--bless] [--scene NAME]...` renders every scene of
+//!   `fixtures/scenes/` with the grid and exhaustively, checks that the two
+//!   framebuffers are bitwise identical, compares the grid's image with
+//!   `fixtures/reference/<scene>.png` within the tolerance stated in
+//!   `fixtures/reference/tolerances.ron`, and writes actual and diff images
+//!   and an HTML report to `target/regress/`.
+//! - `cargo xtask speedup-table [--sizes ...] [--runs R] [--threads T]
+//!   [--full] [--out DIR]` regenerates Suffern's grid vs exhaustive table
+//!   (`docs/speedup-table.md`) and its plot (`docs/speedup.svg`).
+
+mod bitdiff;
+#[cfg(feature = "embree")]
+mod embree;
+mod imgdiff;
+mod measure;
+mod plot;
+mod regress;
+mod report;
+mod speedup;
+mod table;
+mod tolerances;
+mod util;
+
+use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
-const TASKS: &[(&str, &str)] = &[
-    ("speedup-table", "regenerate Suffern's grid vs exhaustive speed-up table (docs/speedup-table.md)"),
-    ("regress", "render every fixture scene and compare with fixtures/reference/"),
-];
+/// Project automation for gridrt.
+#[derive(Debug, Parser)]
+#[command(name = "cargo xtask", bin_name = "cargo xtask")]
+struct Cli {
+    #[command(subcommand)]
+    task: Task,
+}
+
+#[derive(Debug, Subcommand)]
+enum Task {
+    /// Render every fixture scene and compare it with fixtures/reference/
+    /// (and the grid's image with the exhaustive one, bit for bit).
+    Regress(regress::Args),
+    /// Regenerate Suffern's grid vs exhaustive speed-up table
+    /// (docs/speedup-table.md, docs/speedup.svg).
+    SpeedupTable(speedup::Args),
+}
+
+/// What a task reports when it ran to the end: whether every check passed.
+pub(crate) type Outcome = Result<bool, Box<dyn std::error::Error>>;
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    match args.first().map(String::as_str) {
-        None | Some("help" | "-h" | "--help") => {
-            println!("usage: cargo xtask <task> [options]\n\ntasks:");
-            for (name, what) in TASKS {
-                println!("  {name:<15} {what}");
-            }
-            ExitCode::SUCCESS
-        }
-        Some(other) => {
-            eprintln!("xtask: `{other}` is not built yet or unknown; run `cargo xtask help`");
+    let cli = Cli::parse();
+    let outcome = match cli.task {
+        Task::Regress(args) => regress::run(&args),
+        Task::SpeedupTable(args) => speedup::run(&args),
+    };
+    match outcome {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::FAILURE,
+        Err(e) => {
+            eprintln!("xtask: error: {e}");
             ExitCode::FAILURE
         }
     }

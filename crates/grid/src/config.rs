@@ -4,30 +4,60 @@ use std::time::Duration;
 /// How the grid stores its cells.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum CellStorage {
-    /// Only occupied cells get space: a hash table keyed by the Morton code of
-    /// the cell's (i, j, k), as the lecture asks.
-    #[default]
+    /// Only occupied cells get space: an open-addressing hash table keyed by
+    /// the Morton code of the cell's (i, j, k), as the lecture asks, with
+    /// the references in one flat array in Morton order. Pays when most
+    /// cells are empty.
     Hashed,
-    /// One offset per cell, occupied or not.
+    /// One offset per cell, occupied or not (a CSR offset array of
+    /// `cells + 1` entries over row-major cells). One load per cell visited,
+    /// 4 bytes per cell.
+    #[default]
     Dense,
 }
 
 /// Parameters of a grid build.
+///
+/// # Resolution
+///
+/// With `n` primitives in a grid box of extents `w_x, w_y, w_z`, the lecture's
+/// formula gives the cell size `s = cbrt(w_x·w_y·w_z / n)` and
+/// `n_a = floor(m·w_a / s) + 1` cells along axis `a` (about `m³` cells per
+/// primitive). An axis of zero extent, or one thin enough to get one cell
+/// anyway, is left out of `s` (`s = sqrt(w_x·w_y / n)` for a flat scene), so
+/// flat scenes are not cut into millions of slivers; a single point gets one
+/// cell. The cell count is then capped:
+///
+/// - at most [`GridConfig::max_cells`] cells (itself clamped to `1..=2³¹`):
+///   past it, every `n_a` is scaled down by the same factor;
+/// - at most `2²¹` cells per axis (21-bit Morton coordinates);
+/// - at most `max(4·max_cells, 64·n)` references (and below `2³¹`): if huge
+///   primitives over a fine grid would need more, the resolution is halved
+///   until they fit.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GridConfig {
-    /// The lecture's multiplier `m`: about `m³` cells per primitive.
+    /// The lecture's multiplier `m`: about `m³` cells per primitive. Values
+    /// that are not finite and positive are treated as the lecture's 2.
     pub m: Real,
     /// Sparse hashed cells or a dense table.
     pub storage: CellStorage,
     /// Ask each primitive whether it really touches a cell
-    /// ([`crate::Primitive::overlaps_box`]) instead of inserting it into every
-    /// cell its bounding box overlaps.
+    /// ([`crate::Primitive::overlaps_box`], given the cell's box widened by
+    /// a few ulps) instead of inserting it into every cell its bounding box
+    /// overlaps. Fewer references, slower build.
     pub exact_insertion: bool,
-    /// Skip primitives already tested by the same ray (mailboxing).
+    /// Skip primitives already tested by the same ray (mailboxing, with
+    /// per-ray ids in the caller's [`crate::GridScratch`]).
     pub mailbox: bool,
     /// The most cells a grid may have; the resolution is scaled down
-    /// uniformly to stay below it, so memory stays bounded.
+    /// uniformly to stay below it, so memory stays bounded. Clamped to
+    /// `1..=2³¹`.
     pub max_cells: u64,
+    /// Build in parallel (needs the `rayon` feature; ignored without it).
+    pub parallel_build: bool,
+    /// Explicit cells per axis, overriding `m` (zeros count as one; the caps
+    /// still apply). For tests and experiments.
+    pub dims: Option<[u32; 3]>,
 }
 
 /// What a built grid looks like, for reports and tests.
@@ -47,6 +77,10 @@ pub struct GridStats {
     pub max_refs_per_cell: u32,
     /// Heap bytes held by the grid's tables (not the primitives).
     pub bytes: usize,
+    /// Of `bytes`, the cell table alone (dense offsets or hash slots).
+    pub table_bytes: usize,
+    /// Primitives kept outside the cells because their box is not finite.
+    pub unbounded_prims: u64,
     /// Wall-clock time of the build.
     pub build_time: Duration,
 }
@@ -55,10 +89,12 @@ impl Default for GridConfig {
     fn default() -> Self {
         Self {
             m: 2.0,
-            storage: CellStorage::Hashed,
+            storage: CellStorage::Dense,
             exact_insertion: false,
-            mailbox: true,
+            mailbox: false,
             max_cells: 1 << 26,
+            parallel_build: true,
+            dims: None,
         }
     }
 }

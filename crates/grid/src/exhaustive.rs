@@ -1,4 +1,4 @@
-use crate::{Accelerator, Hit, Primitive};
+use crate::{Accelerator, Counters, Hit, NoCounters, Primitive};
 use gridrt_bbox::{Ray, Real};
 
 /// The baseline: every query tests every primitive, in index order.
@@ -47,6 +47,43 @@ impl<P: Primitive> Exhaustive<P> {
     pub fn into_primitives(self) -> Vec<P> {
         self.prims
     }
+
+    /// [`Accelerator::closest_hit`] that also reports its tests to
+    /// `counters` (one per primitive; no cells), for the "tests per ray"
+    /// column beside the grid's [`crate::Grid::closest_hit_counted`].
+    #[inline]
+    pub fn closest_hit_counted<C: Counters>(&self, ray: &Ray, t_min: Real, t_max: Real, counters: &mut C) -> Option<Hit> {
+        counters.ray();
+        if !(t_min <= t_max) {
+            return None;
+        }
+        let mut best: Option<Hit> = None;
+        let mut t_far = t_max;
+        for (i, p) in self.prims.iter().enumerate() {
+            counters.test();
+            // Strictly nearer only: on a tie in t the earlier (lower) index stays.
+            if let Some(h) = p.closest_hit(ray, t_min, t_far) {
+                if best.map_or(true, |b| h.t < b.t) {
+                    t_far = h.t;
+                    best = Some(Hit::new(h, i as u32));
+                }
+            }
+        }
+        best
+    }
+
+    /// [`Accelerator::any_hit`] that also reports its tests to `counters`.
+    #[inline]
+    pub fn any_hit_counted<C: Counters>(&self, ray: &Ray, t_min: Real, t_max: Real, counters: &mut C) -> bool {
+        counters.ray();
+        if !(t_min <= t_max) {
+            return false;
+        }
+        self.prims.iter().any(|p| {
+            counters.test();
+            p.any_hit(ray, t_min, t_max)
+        })
+    }
 }
 
 impl<P: Primitive> Accelerator for Exhaustive<P> {
@@ -59,24 +96,15 @@ impl<P: Primitive> Accelerator for Exhaustive<P> {
         &self.prims
     }
 
+    /// The nearest hit over all primitives; an empty or NaN range gives `None`.
     #[inline]
     fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real, _: &mut ()) -> Option<Hit> {
-        let mut best: Option<Hit> = None;
-        let mut t_far = t_max;
-        for (i, p) in self.prims.iter().enumerate() {
-            // Strictly nearer only: on a tie in t the earlier (lower) index stays.
-            if let Some(h) = p.closest_hit(ray, t_min, t_far) {
-                if best.map_or(true, |b| h.t < b.t) {
-                    t_far = h.t;
-                    best = Some(Hit::new(h, i as u32));
-                }
-            }
-        }
-        best
+        self.closest_hit_counted(ray, t_min, t_max, &mut NoCounters)
     }
 
+    /// Whether any primitive is hit; an empty or NaN range gives `false`.
     #[inline]
     fn any_hit(&self, ray: &Ray, t_min: Real, t_max: Real, _: &mut ()) -> bool {
-        self.prims.iter().any(|p| p.any_hit(ray, t_min, t_max))
+        self.any_hit_counted(ray, t_min, t_max, &mut NoCounters)
     }
 }

@@ -8,10 +8,22 @@
 #![warn(missing_docs)]
 
 mod accel;
+mod build;
 mod config;
+mod counters;
+mod dda;
 mod exhaustive;
+mod geom;
+mod grid;
+mod morton;
+mod par;
+mod radix;
+mod table;
 
 pub use accel::{Accelerator, Hit, PrimHit, Primitive};
 pub use config::{CellStorage, GridConfig, GridStats};
+pub use counters::{Counters, NoCounters, QueryCounters};
+pub use dda::{CellIter, CellVisit};
 pub use exhaustive::Exhaustive;
+pub use grid::{Grid, GridScratch};
 pub use gridrt_bbox::{Aabb, Ray, Real, Vec3};

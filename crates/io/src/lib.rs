@@ -1,3 +1,77 @@
-//! Everything that touches the outside world: RON scenes, OBJ and glTF meshes,
-//! PNG and EXR images. **The only crate that reads or writes files.**
+//! Everything that touches the outside world: RON scene files, OBJ and glTF
+//! meshes, PNG and EXR images, ray-query CSV files, and the `gridrt`
+//! command-line renderer built on them.
+//!
+//! **Invariant: this is the only gridrt crate that reads or writes files or
+//! knows a file format.** It turns files into the tracer's in-memory
+//! [`Scene`](gridrt_tracer::Scene) and framebuffers into files; the tracer
+//! and the grid below it never see a path. Bad input of any kind is an
+//! [`Error`] that names the file and the place in it (RON line:column, OBJ
+//! line, glTF node and primitive, CSV line) and says what to fix; it never
+//! panics. Every output is written atomically (a temporary file renamed into
+//! place), so a failed run never leaves a half-written file or clobbers a
+//! good one.
+//!
+//! ```
+//! use gridrt_io::parse_scene;
+//! use std::path::Path;
+//!
+//! let text = r#"Scene(
+//!     camera: Camera(eye: (0, 1, 6), look_at: (0, 0.5, 0), projection: Perspective(vfov: 40)),
+//!     settings: Settings(width: 40, height: 30),
+//!     materials: {
+//!         "floor": Matte(color: (0.8, 0.8, 0.8)),
+//!         "mirror": Reflective(),
+//!     },
+//!     lights: [Ambient(intensity: 0.2), Point(position: (3, 6, 4), intensity: 3)],
+//!     objects: [
+//!         Plane(point: (0, 0, 0), normal: (0, 1, 0), material: "floor"),
+//!         Sphere(center: (0, 1, 0), radius: 1, material: "mirror"),
+//!     ],
+//! )"#;
+//! let loaded = parse_scene(text, Path::new("inline.ron")).unwrap();
+//! assert_eq!(loaded.scene.objects.len(), 2);
+//!
+//! // Unknown fields are errors that point at the line and column.
+//! let err = parse_scene("(objects: [], colour: 1)", Path::new("bad.ron")).unwrap_err();
+//! assert!(err.to_string().starts_with("bad.ron:1:"));
+//! ```
+//!
+//! The scene format is documented field by field in `docs/scene-format.md`,
+//! the command line in `docs/cli.md`.
+//!
+//! # Features
+//! - `rayon` (default): render and build grids in parallel (passed on to
+//!   gridrt-tracer and gridrt-grid).
+//! - `f64` (off): `Real` is `f64` throughout the stack. Not additive.
 #![warn(missing_docs)]
+
+pub mod cli;
+mod error;
+mod image_out;
+mod model;
+mod random;
+mod rays;
+mod scene;
+mod schema;
+
+pub use error::{Error, Result};
+pub use image_out::{
+    check_image_path, check_output_dir, linear_to_srgb, write_atomic, write_image, ImageFormat,
+};
+pub use model::{
+    default_material, load_model, Model, ModelCamera, ModelFormat, ModelMesh, NamedMaterial,
+};
+pub use rays::{format_hits, parse_rays, trace_rays, RayQuery};
+pub use scene::{
+    apply_overrides, default_scene, frame, load_scene, parse_scene, scene_from_model, LoadedScene,
+    DEFAULT_SCENE, DEFAULT_SCENE_NAME,
+};
+
+/// Writes a rendered framebuffer as PNG or EXR (by extension), atomically.
+///
+/// # Errors
+/// As [`write_image`].
+pub fn write_framebuffer(path: &std::path::Path, fb: &gridrt_tracer::Framebuffer) -> Result<()> {
+    write_image(path, fb.width, fb.height, &fb.pixels)
+}

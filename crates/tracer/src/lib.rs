@@ -1,9 +1,87 @@
-//! The renderer. Knows shapes, materials, lights and cameras; builds the grid
-//! through `gridrt-grid`. **Never touches files or formats** (that is `gridrt-io`).
+//! The gridrt renderer: shapes, camera, materials, lights, the effect plan
+//! and the parallel render loop, over the regular grid of `gridrt-grid`.
+//!
+//! **Invariants.** The tracer knows scenes as data ([`Scene`]) and never
+//! touches files or formats (that is `gridrt-io`'s job). It builds its
+//! accelerator only through `gridrt-grid`'s [`Accelerator`] trait and renders
+//! generic code over it (static dispatch, no `dyn` in the hot path). An image
+//! depends only on the scene and the accelerator's answers, never on the
+//! thread count or tiling: samples are hashed from the pixel and sample
+//! index. Effects the scene does not call for cost nothing (the
+//! [`EffectPlan`]), and every ray is counted by kind ([`RayCounts`]).
+//!
+//! ```
+//! use gridrt_tracer::{
+//!     render, Camera, Geometry, Light, Material, Object, Projection, RenderOptions, Rgb, Scene,
+//!     Settings,
+//! };
+//! use gridrt_grid::Vec3;
+//!
+//! let scene = Scene {
+//!     camera: Camera {
+//!         eye: Vec3::new(0.0, 0.0, 5.0),
+//!         look_at: Vec3::ZERO,
+//!         up: Vec3::Y,
+//!         projection: Projection::Perspective { vfov_deg: 40.0 },
+//!     },
+//!     settings: Settings { width: 32, height: 24, ..Settings::default() },
+//!     materials: vec![Material::Matte { color: Rgb::new(0.8, 0.3, 0.2), ka: 0.1, kd: 0.9 }],
+//!     lights: vec![
+//!         Light::Ambient { color: Rgb::ONE, intensity: 1.0 },
+//!         Light::Directional {
+//!             direction: Vec3::new(1.0, 1.0, 1.0),
+//!             color: Rgb::ONE,
+//!             intensity: 3.0,
+//!             shadows: true,
+//!         },
+//!     ],
+//!     objects: vec![Object {
+//!         geometry: Geometry::Sphere { center: Vec3::ZERO, radius: 1.0 },
+//!         material: 0,
+//!     }],
+//! };
+//! let (image, stats) = render(&scene, &RenderOptions::default()).unwrap();
+//! assert_eq!(image.pixels.len(), 32 * 24);
+//! assert!(stats.pixels_hit > 0);
+//! // One convex sphere cannot shadow itself: the plan casts no shadow rays.
+//! assert_eq!(stats.rays.shadow, 0);
+//! println!("{stats}");
+//! ```
+//!
+//! # Features
+//! - `rayon` (default): render tiles (and build the grid) in parallel on a
+//!   local thread pool; without it everything runs on the calling thread.
+//! - `f64` (off): [`Real`](gridrt_bbox::Real) is `f64` throughout (colours
+//!   stay `f32`).
+//! - `serde` (off): `Serialize` for [`RenderStats`], [`RayCounts`] and
+//!   [`EffectPlan`].
 #![warn(missing_docs)]
+// `!(a <= b)` is how this crate rejects NaN on purpose (a NaN fails every
+// comparison, so the negated form takes the safe branch); see the comments
+// at each use.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod camera;
+mod error;
+mod float;
+mod integrator;
+pub mod optics;
+mod plan;
+mod prepare;
+mod render;
+mod sampler;
 pub mod scene;
+#[cfg(feature = "serde")]
+mod serde_support;
+mod shapes;
+pub mod suffern;
 
+pub use error::{Cancelled, SceneError};
+pub use gridrt_grid::Accelerator;
+pub use plan::{EffectPlan, IntegratorKind, RayCounts};
+pub use prepare::{SphereSet, MAX_PIXELS};
+pub use render::{render, AccelKind, Framebuffer, RenderOptions, RenderStats, Renderer};
 pub use scene::{
     Camera, Geometry, Light, Material, MaterialId, Mesh, Object, Projection, Rgb, Scene, Settings,
 };
+pub use shapes::{Cuboid, Plane, Shape, Sphere, Triangle};

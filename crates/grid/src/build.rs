@@ -1,0 +1,357 @@
+//! Grid construction in linear time: map every primitive to the cells its
+//! (padded) box overlaps, emit one `(cell key, primitive)` pair per
+//! reference, radix-sort the pairs by key, and read the cells off the sorted
+//! runs (Kalojanov & Slusallek 2009). The references end up in one flat
+//! array ordered by cell key (Morton order for the hashed table, row-major
+//! for the dense one), each cell's run sorted by primitive index.
+//!
+//! Every phase is chunked; with the `rayon` feature and
+//! `GridConfig::parallel_build` the chunks run in parallel, otherwise the
+//! same code runs sequentially.
+
+use crate::geom::{self, Geom, HARD_MAX_CELLS};
+use crate::morton;
+use crate::par::{chunk_bounds, chunk_count, map_indices, SharedMut};
+use crate::radix;
+use crate::table::CellTable;
+use crate::{CellStorage, GridConfig, Primitive};
+use gridrt_bbox::Aabb;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// How a built grid finds a cell's references.
+#[derive(Clone, Debug)]
+pub(crate) enum Cells {
+    /// No cells (no primitive with a finite box).
+    Empty,
+    /// `offsets[c]..offsets[c + 1]` for the row-major cell index `c`.
+    Dense { offsets: Box<[u32]> },
+    /// Morton code → run, only for occupied cells.
+    Hashed { table: CellTable },
+}
+
+/// Everything the build produces.
+#[derive(Debug)]
+pub(crate) struct Built {
+    pub geom: Geom,
+    pub cells: Cells,
+    pub refs: Box<[u32]>,
+    /// Primitives whose box is not finite (NaN, infinite or empty): tested by every query.
+    pub unbounded: Box<[u32]>,
+    /// Morton spread tables per axis (hashed storage only).
+    pub spread: [Box<[u64]>; 3],
+    pub occupied: u64,
+    pub max_refs: u32,
+}
+
+/// True when a primitive box can be placed in the grid.
+#[inline]
+pub(crate) fn is_gridded(b: &Aabb) -> bool {
+    b.min.is_finite() && b.max.is_finite() && b.min.cmple(b.max).all()
+}
+
+/// Builds the cell structure for `prims`.
+pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig) -> Built {
+    let parallel = config.parallel_build;
+    let n = prims.len();
+    // Phase 1: the union of the finite boxes, and the primitives that cannot be gridded.
+    let chunks = chunk_count(n, parallel, 1 << 14);
+    let parts = map_indices(chunks, parallel, |c| {
+        let (s, e) = chunk_bounds(n, chunks, c);
+        let mut b = Aabb::EMPTY;
+        let mut out = Vec::new();
+        let mut count = 0usize;
+        for (i, p) in prims[s..e].iter().enumerate() {
+            let pb = p.bounds();
+            if is_gridded(&pb) {
+                b = b.union(pb);
+                count += 1;
+            } else {
+                out.push((s + i) as u32);
+            }
+        }
+        (b, out, count)
+    });
+    let mut bounds = Aabb::EMPTY;
+    let mut unbounded = Vec::new();
+    let mut gridded = 0usize;
+    for (b, out, count) in parts {
+        bounds = bounds.union(b);
+        unbounded.extend(out);
+        gridded += count;
+    }
+    let unbounded = unbounded.into_boxed_slice();
+    if gridded == 0 {
+        return Built {
+            geom: Geom::empty(),
+            cells: Cells::Empty,
+            refs: Box::new([]),
+            unbounded,
+            spread: [Box::new([]), Box::new([]), Box::new([])],
+            occupied: 0,
+            max_refs: 0,
+        };
+    }
+
+    // Phase 2: the resolution (lecture formula, degenerate extents, cell cap).
+    let e = bounds.extent();
+    let ext = [f64::from(e.x), f64::from(e.y), f64::from(e.z)];
+    let max_cells = config.max_cells.clamp(1, HARD_MAX_CELLS);
+    let mut dims = match config.dims {
+        Some(d) => geom::cap_cells(d.map(|n| u64::from(n.max(1))), max_cells),
+        None => geom::resolution(ext, gridded, geom::sanitize_m(config.m), max_cells),
+    };
+    // References are bounded too, so that huge primitives over a fine grid cannot
+    // exhaust memory: past the limit the resolution is halved and the build retried.
+    let ref_limit = (4 * max_cells).max(64 * gridded as u64).min(u64::from(u32::MAX) / 2);
+    loop {
+        let g = Geom::new(bounds, dims);
+        match build_cells(prims, &g, config, ref_limit) {
+            Some((cells, refs, spread, occupied, max_refs)) => {
+                return Built {
+                    geom: g,
+                    cells,
+                    refs,
+                    unbounded,
+                    spread,
+                    occupied,
+                    max_refs,
+                };
+            }
+            None => dims = dims.map(|d| (d / 2).max(1)),
+        }
+    }
+}
+
+type CellsOut = (Cells, Box<[u32]>, [Box<[u64]>; 3], u64, u32);
+
+/// A `(key, primitive)` pair as the sort sees it.
+trait Pair: Copy + Send + Sync {
+    fn new(key: u64, prim: u32) -> Self;
+    fn key(&self) -> u64;
+    fn prim(&self) -> u32;
+}
+
+/// Key and primitive packed in one word, for keys of at most 32 bits.
+impl Pair for u64 {
+    #[inline(always)]
+    fn new(key: u64, prim: u32) -> Self {
+        (key << 32) | u64::from(prim)
+    }
+    #[inline(always)]
+    fn key(&self) -> u64 {
+        self >> 32
+    }
+    #[inline(always)]
+    fn prim(&self) -> u32 {
+        *self as u32
+    }
+}
+
+/// Wide keys (Morton codes of more than 32 bits).
+#[derive(Clone, Copy)]
+struct Wide {
+    key: u64,
+    prim: u32,
+}
+
+impl Pair for Wide {
+    #[inline(always)]
+    fn new(key: u64, prim: u32) -> Self {
+        Self { key, prim }
+    }
+    #[inline(always)]
+    fn key(&self) -> u64 {
+        self.key
+    }
+    #[inline(always)]
+    fn prim(&self) -> u32 {
+        self.prim
+    }
+}
+
+/// Builds cells and references on a fixed geometry; `None` when the
+/// references would exceed `ref_limit`.
+fn build_cells<P: Primitive>(prims: &[P], g: &Geom, config: &GridConfig, ref_limit: u64) -> Option<CellsOut> {
+    let hashed = config.storage == CellStorage::Hashed;
+    let spread: [Box<[u64]>; 3] = if hashed {
+        std::array::from_fn(|a| (0..g.dims[a]).map(|i| morton::spread3(i) << a).collect())
+    } else {
+        [Box::new([]), Box::new([]), Box::new([])]
+    };
+    let max_key = if hashed {
+        spread[0][g.dims[0] as usize - 1] | spread[1][g.dims[1] as usize - 1] | spread[2][g.dims[2] as usize - 1]
+    } else {
+        g.cell_count() - 1
+    };
+    let key_bits = 64 - max_key.leading_zeros();
+    if key_bits <= 32 {
+        build_pairs::<P, u64>(prims, g, config, ref_limit, spread, key_bits)
+    } else {
+        build_pairs::<P, Wide>(prims, g, config, ref_limit, spread, key_bits)
+    }
+}
+
+fn build_pairs<P: Primitive, T: Pair>(
+    prims: &[P],
+    g: &Geom,
+    config: &GridConfig,
+    ref_limit: u64,
+    spread: [Box<[u64]>; 3],
+    key_bits: u32,
+) -> Option<CellsOut> {
+    let parallel = config.parallel_build;
+    let hashed = config.storage == CellStorage::Hashed;
+    let n = prims.len();
+    let [nx, ny, _] = g.dims.map(u64::from);
+    let key_of = |i: u32, j: u32, k: u32| -> u64 {
+        if hashed {
+            spread[0][i as usize] | spread[1][j as usize] | spread[2][k as usize]
+        } else {
+            u64::from(i) + nx * (u64::from(j) + ny * u64::from(k))
+        }
+    };
+
+    // Phase 3: one pair per reference, chunk by chunk (in primitive order).
+    let total = AtomicU64::new(0);
+    let chunks = chunk_count(n, parallel, 1 << 14);
+    let parts: Vec<Option<Vec<T>>> = map_indices(chunks, parallel, |c| {
+        let (s, e) = chunk_bounds(n, chunks, c);
+        let mut out: Vec<T> = Vec::with_capacity((e - s) * 4);
+        let mut since_check = 0usize;
+        for (p, prim) in (s as u32..).zip(&prims[s..e]) {
+            let b = prim.bounds();
+            if !is_gridded(&b) {
+                continue;
+            }
+            let (lo, hi) = g.cell_range(&b);
+            let single = lo == hi;
+            let before = out.len();
+            for k in lo[2]..=hi[2] {
+                for j in lo[1]..=hi[1] {
+                    for i in lo[0]..=hi[0] {
+                        if config.exact_insertion && !single && !prim.overlaps_box(&g.padded_cell_box([i, j, k])) {
+                            continue;
+                        }
+                        out.push(T::new(key_of(i, j, k), p));
+                    }
+                }
+            }
+            since_check += out.len() - before;
+            if since_check > 1 << 16 {
+                let t = total.fetch_add(since_check as u64, Ordering::Relaxed) + since_check as u64;
+                since_check = 0;
+                if t > ref_limit {
+                    return None;
+                }
+            }
+        }
+        let t = total.fetch_add(since_check as u64, Ordering::Relaxed) + since_check as u64;
+        (t <= ref_limit).then_some(out)
+    });
+    let mut parts: Vec<Vec<T>> = parts.into_iter().collect::<Option<_>>()?;
+    let mut pairs: Vec<T> = if parts.len() == 1 {
+        parts.pop().unwrap_or_default()
+    } else {
+        concat(parts, parallel)
+    };
+
+    // Phase 4: sort by cell key (stable: each run stays in primitive order).
+    let mut tmp = Vec::new();
+    radix::sort_by_key(&mut pairs, &mut tmp, key_bits, T::key, parallel);
+    drop(tmp);
+    let r = pairs.len();
+
+    // Phase 5: the flat reference array and the cells.
+    let refs: Box<[u32]> = {
+        let mut refs = Vec::with_capacity(r);
+        let chunks = chunk_count(r, parallel, 1 << 16);
+        let dst = SharedMut(refs.as_mut_ptr());
+        let pairs = &pairs;
+        map_indices(chunks, parallel, |c| {
+            let (s, e) = chunk_bounds(r, chunks, c);
+            for (i, p) in pairs[s..e].iter().enumerate() {
+                // SAFETY: each chunk writes its own range below `r`, within capacity.
+                unsafe { dst.write(s + i, p.prim()) };
+            }
+        });
+        // SAFETY: all `r` elements were written above.
+        unsafe { refs.set_len(r) };
+        refs.into_boxed_slice()
+    };
+    // Run starts (indices into `pairs` where the key changes).
+    let mut occupied = 0u64;
+    let mut max_refs = 0u32;
+    let mut run_start = 0usize;
+    let mut runs: Vec<(u64, u32, u32)> = Vec::new();
+    let want_runs = hashed;
+    for i in 1..=r {
+        if i == r || pairs[i].key() != pairs[run_start].key() {
+            let len = (i - run_start) as u32;
+            occupied += 1;
+            max_refs = max_refs.max(len);
+            if want_runs {
+                runs.push((pairs[run_start].key(), run_start as u32, len));
+            }
+            run_start = i;
+        }
+    }
+    let cells = if hashed {
+        let mut table = CellTable::with_cells(runs.len());
+        for &(key, start, len) in &runs {
+            table.insert(key, start, len);
+        }
+        Cells::Hashed { table }
+    } else {
+        Cells::Dense {
+            offsets: dense_offsets(&pairs, g.cell_count() as usize, parallel),
+        }
+    };
+    Some((cells, refs, spread, occupied, max_refs))
+}
+
+/// Concatenates the per-chunk pair vectors (in parallel when asked).
+fn concat<T: Pair>(parts: Vec<Vec<T>>, parallel: bool) -> Vec<T> {
+    let total: usize = parts.iter().map(Vec::len).sum();
+    let mut out: Vec<T> = Vec::with_capacity(total);
+    let mut starts = Vec::with_capacity(parts.len());
+    let mut acc = 0;
+    for p in &parts {
+        starts.push(acc);
+        acc += p.len();
+    }
+    let dst = SharedMut(out.as_mut_ptr());
+    let parts = &parts;
+    let starts = &starts;
+    map_indices(parts.len(), parallel, |c| {
+        for (i, x) in parts[c].iter().enumerate() {
+            // SAFETY: part c owns positions starts[c]..starts[c] + len, below `total`.
+            unsafe { dst.write(starts[c] + i, *x) };
+        }
+    });
+    // SAFETY: the parts cover 0..total exactly.
+    unsafe { out.set_len(total) };
+    out
+}
+
+/// CSR offsets for a dense table: `offsets[c]` is the index of the first pair
+/// with key `>= c`, for `c` in `0..=cells`.
+fn dense_offsets<T: Pair>(pairs: &[T], cells: usize, parallel: bool) -> Box<[u32]> {
+    let len = cells + 1;
+    let mut offsets: Vec<u32> = Vec::with_capacity(len);
+    let chunks = chunk_count(len, parallel, 1 << 18);
+    let dst = SharedMut(offsets.as_mut_ptr());
+    map_indices(chunks, parallel, |c| {
+        let (s, e) = chunk_bounds(len, chunks, c);
+        let mut lb = pairs.partition_point(|p| p.key() < s as u64);
+        for cell in s..e {
+            while lb < pairs.len() && pairs[lb].key() < cell as u64 {
+                lb += 1;
+            }
+            // SAFETY: chunk c owns positions s..e, all below `len`.
+            unsafe { dst.write(cell, lb as u32) };
+        }
+    });
+    // SAFETY: the chunks cover 0..len exactly.
+    unsafe { offsets.set_len(len) };
+    offsets.into_boxed_slice()
+}

@@ -1,0 +1,257 @@
+//! The 3D-DDA of Amanatides & Woo (1987), "A fast voxel traversal algorithm
+//! for ray tracing": from the cell where the ray enters the grid, step to the
+//! neighbour across whichever cell plane the ray crosses first.
+//!
+//! Plane crossings are computed from the stored cell planes,
+//! `t = (plane − origin) · inv_dir`, not by accumulating `Δt`: each crossing
+//! carries the rounding of one subtraction and one product, however long
+//! the walk, and insertion uses the very same planes.
+
+use crate::geom::Geom;
+use gridrt_bbox::{Ray, Real};
+use std::ops::ControlFlow;
+
+const INF: Real = Real::INFINITY;
+
+/// The larger of two values, `b` when they are unordered (cheaper than
+/// `Real::max`, whose NaN rule costs a few instructions in the hot loop).
+#[inline(always)]
+fn max(a: Real, b: Real) -> Real {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// One cell on a ray's path: its index and the parametric interval
+/// `[t_enter, t_exit]` the ray spends in it (clipped to the query range).
+///
+/// Consecutive visits share their boundary: the `t_exit` of one is the
+/// `t_enter` of the next, and `t_enter <= t_exit` always.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CellVisit {
+    /// The cell's `(i, j, k)`, each below the grid's cell count on that axis.
+    pub index: [u32; 3],
+    /// Where the ray enters the cell (or the query's `t_min`).
+    pub t_enter: Real,
+    /// Where the ray leaves the cell (or the query's `t_max`).
+    pub t_exit: Real,
+}
+
+/// How the walk finds a cell's references: a key per cell that can be
+/// stepped to a neighbour without recomputation (row-major index or Morton
+/// code), and the lookup of a key's references.
+pub(crate) trait CellLookup<'a> {
+    /// The key of cell `idx`, and per-axis constants for stepping keys in
+    /// the directions `neg`.
+    fn start(&self, idx: [u32; 3], neg: [bool; 3]) -> (u64, [u64; 3]);
+    /// The key of the neighbour across `axis` (in the walk's direction).
+    fn step(st: &[u64; 3], key: u64, axis: usize) -> u64;
+    /// The references of the cell with this key (empty if unoccupied).
+    fn refs(&self, key: u64) -> &'a [u32];
+}
+
+/// What the walk does with each cell. A trait rather than a closure so that
+/// the query bodies are always inlined into the walk's loop.
+pub(crate) trait CellFn<'a> {
+    /// The value a visit stops with.
+    type Break;
+    /// Visits one cell; `Break` ends the walk.
+    fn call(&mut self, visit: CellVisit, refs: &'a [u32]) -> ControlFlow<Self::Break>;
+}
+
+/// The walk's state between two steps.
+#[derive(Clone, Debug)]
+pub(crate) struct Dda<'g> {
+    /// Per axis, the next plane in the walk's direction, in `Geom::walk`
+    /// (whose ends are `∓∞` sentinels, so no bounds test is needed: past the
+    /// last interior plane the crossing is `+∞`).
+    next: [*const Real; 3],
+    /// `+1` or `−1`: how `next` and the index move along each axis.
+    dir: [isize; 3],
+    org: [Real; 3],
+    inv: [Real; 3],
+    pub idx: [u32; 3],
+    /// Whether the walk goes down along each axis.
+    pub neg: [bool; 3],
+    /// The next plane crossing per axis, `+∞` if none.
+    t_next: [Real; 3],
+    t_enter: Real,
+    t_end: Real,
+    _geom: std::marker::PhantomData<&'g Geom>,
+}
+
+impl<'g> Dda<'g> {
+    /// Starts a walk over `[t_min, t_max]`; `None` when the ray misses the
+    /// grid in that range (or the range is empty or NaN).
+    ///
+    /// The entry point is found with the robust (conservative) `Aabb::hit`
+    /// on the grid box widened by the insertion pad. Its cell index is
+    /// clamped to `[0, n − 1]`, so an entry exactly on the grid's max face
+    /// starts in the last cell. An axis along which the ray does not move (a
+    /// direction component of ±0, or one whose reciprocal overflows, such as
+    /// a denormal) is never stepped: its next crossing is `+∞`, whatever the
+    /// sign of the zero.
+    #[inline]
+    pub(crate) fn new(g: &'g Geom, ray: &Ray, t_min: Real, t_max: Real) -> Option<Self> {
+        if g.is_empty() || !(t_min <= t_max) {
+            return None;
+        }
+        let (t0, t1) = g.entry.hit(ray, t_min, t_max)?;
+        let mut d = Dda {
+            next: [g.walk[0].as_ptr(), g.walk[1].as_ptr(), g.walk[2].as_ptr()],
+            dir: [1; 3],
+            org: ray.origin.to_array(),
+            inv: ray.inv_dir.to_array(),
+            idx: [0; 3],
+            neg: [false; 3],
+            t_next: [INF; 3],
+            t_enter: t0,
+            // Keep the end finite so that a `+∞` crossing never compares below it.
+            t_end: if t1 < Real::MAX { t1 } else { Real::MAX },
+            _geom: std::marker::PhantomData,
+        };
+        for a in 0..3 {
+            let o = d.org[a];
+            let inv = d.inv[a];
+            let moving = inv.is_finite() && inv != 0.0;
+            // A non-moving axis keeps the origin's coordinate (never 0·∞).
+            let p = if moving { o + ray.dir[a] * t0 } else { o };
+            let i = g.cell_of(a, p);
+            d.idx[a] = i;
+            if moving && g.dims[a] > 1 {
+                // The sign of the reciprocal, not `dir >= 0`: −0.0 never gets here,
+                // and a tiny negative component must walk down.
+                let down = inv < 0.0;
+                d.neg[a] = down;
+                d.dir[a] = if down { -1 } else { 1 };
+                let k = i as usize + usize::from(!down);
+                // `k <= n`: the walk planes have `n + 1` entries.
+                d.next[a] = g.walk[a][k..].as_ptr();
+                d.t_next[a] = (g.walk[a][k] - o) * inv;
+            }
+        }
+        Some(d)
+    }
+
+    /// The axis whose plane the ray crosses next, and the crossing.
+    #[inline(always)]
+    fn next_axis(&self) -> (usize, Real) {
+        let [tx, ty, tz] = self.t_next;
+        if tx < ty {
+            if tx < tz {
+                (0, tx)
+            } else {
+                (2, tz)
+            }
+        } else if ty < tz {
+            (1, ty)
+        } else {
+            (2, tz)
+        }
+    }
+
+    /// Moves to the neighbour across axis `a`'s next plane. Only called
+    /// when that crossing is finite (an interior plane).
+    #[inline(always)]
+    fn advance(&mut self, a: usize) {
+        self.idx[a] = self.idx[a].wrapping_add(self.dir[a] as u32);
+        // SAFETY: a finite crossing comes from an interior plane, at index
+        // 1..n of the n + 1 walk planes, so one step either way stays within
+        // them (the sentinels at 0 and n are never stepped past).
+        unsafe {
+            self.next[a] = self.next[a].offset(self.dir[a]);
+            self.t_next[a] = (*self.next[a] - self.org[a]) * self.inv[a];
+        }
+    }
+
+    /// Visits the current cell and every following one until `f` breaks or
+    /// the ray leaves the grid or the range: the hot loop of every query.
+    /// The state lives in locals and each axis has its own constant-indexed
+    /// step, so it stays in registers.
+    #[inline(always)]
+    pub(crate) fn walk<'a, C: CellLookup<'a>, F: CellFn<'a>>(self, cells: &C, f: &mut F) -> ControlFlow<F::Break> {
+        let Dda { mut next, dir, org, inv, mut idx, neg, t_next, mut t_enter, t_end, .. } = self;
+        let (mut key, st) = cells.start(idx, neg);
+        let [mut tx, mut ty, mut tz] = t_next;
+        macro_rules! step {
+            ($a:literal, $t:ident) => {{
+                idx[$a] = idx[$a].wrapping_add(dir[$a] as u32);
+                key = C::step(&st, key, $a);
+                // SAFETY: as in `advance`: the crossing was finite, so `next`
+                // pointed at an interior plane and one step stays in bounds.
+                unsafe {
+                    next[$a] = next[$a].offset(dir[$a]);
+                    $t = (*next[$a] - org[$a]) * inv[$a];
+                }
+            }};
+        }
+        loop {
+            let (a, tn) = if tx < ty {
+                if tx < tz {
+                    (0, tx)
+                } else {
+                    (2, tz)
+                }
+            } else if ty < tz {
+                (1, ty)
+            } else {
+                (2, tz)
+            };
+            let last_cell = !(tn <= t_end);
+            let t_exit = max(if last_cell { t_end } else { tn }, t_enter);
+            f.call(CellVisit { index: idx, t_enter, t_exit }, cells.refs(key))?;
+            if last_cell {
+                return ControlFlow::Continue(());
+            }
+            t_enter = t_exit;
+            match a {
+                0 => step!(0, tx),
+                1 => step!(1, ty),
+                _ => step!(2, tz),
+            }
+        }
+    }
+}
+
+/// The cells a ray passes through, in order: a non-allocating iterator over
+/// [`CellVisit`]s, made by [`crate::Grid::cells_along`].
+#[derive(Clone, Debug)]
+pub struct CellIter<'g> {
+    dda: Option<Dda<'g>>,
+}
+
+impl<'g> CellIter<'g> {
+    pub(crate) fn new(dda: Option<Dda<'g>>) -> Self {
+        Self { dda }
+    }
+}
+
+impl Iterator for CellIter<'_> {
+    type Item = CellVisit;
+
+    #[inline]
+    fn next(&mut self) -> Option<CellVisit> {
+        let d = self.dda.as_mut()?;
+        let (a, tn) = d.next_axis();
+        let last = !(tn <= d.t_end);
+        let t_exit = max(if last { d.t_end } else { tn }, d.t_enter);
+        let visit = CellVisit { index: d.idx, t_enter: d.t_enter, t_exit };
+        if last {
+            self.dda = None;
+        } else {
+            d.t_enter = t_exit;
+            d.advance(a);
+        }
+        Some(visit)
+    }
+}
+
+impl std::iter::FusedIterator for CellIter<'_> {}
+
+// SAFETY: the walk's raw pointers point into the immutable (`Sync`) plane
+// arrays of a grid borrowed for `'g`; nothing is written through them.
+unsafe impl Send for Dda<'_> {}
+// SAFETY: as above.
+unsafe impl Sync for Dda<'_> {}

@@ -1,0 +1,291 @@
+//! The grid's geometry: its box, the number of cells per axis, and the cell
+//! planes that both insertion and traversal use, so the two always agree on
+//! where a cell begins and ends.
+
+use crate::morton;
+use gridrt_bbox::{Aabb, Real};
+
+/// How far (in units of `Real::EPSILON` times the largest coordinate
+/// magnitude of the grid box) every primitive box is widened before it is
+/// mapped to cells. It absorbs the rounding of hit points, of the traversal's
+/// plane crossings and of the index computation, so that a primitive whose
+/// hit lies on (or within rounding of) a cell plane is in the cells on both
+/// sides of it.
+pub(crate) const PAD_ULPS: Real = 512.0;
+
+/// Hard ceiling on the cell count whatever `GridConfig::max_cells` says:
+/// dense offsets and cell keys are `u32`.
+pub(crate) const HARD_MAX_CELLS: u64 = 1 << 31;
+
+/// Cells per axis, cell planes and the insertion pad of one grid.
+#[derive(Clone, Debug)]
+pub(crate) struct Geom {
+    /// The union of the primitives' (finite) boxes; `Aabb::EMPTY` when none.
+    pub bounds: Aabb,
+    /// Cells per axis; all zero for an empty grid, otherwise at least one.
+    pub dims: [u32; 3],
+    /// `dims[a] + 1` plane coordinates per axis, nondecreasing, from
+    /// `bounds.min[a]` to `bounds.max[a]`. Cell `i` spans `[planes[i], planes[i+1]]`.
+    pub planes: [Box<[Real]>; 3],
+    /// `dims[a] / extent[a]`, or 0 when the extent is 0.
+    pub inv_cell: [Real; 3],
+    /// Absolute widening applied to primitive boxes (see [`PAD_ULPS`]).
+    pub pad: Real,
+    /// The grid box widened by the pad: what a ray must hit to enter.
+    pub entry: Aabb,
+    /// The planes as the walk sees them: `planes` with the two outer faces
+    /// replaced by `−∞` and `+∞`, so that the crossing after the last
+    /// interior plane is `+∞` in either direction.
+    pub walk: [Box<[Real]>; 3],
+}
+
+impl Geom {
+    /// A grid with no cells: every query misses it.
+    pub(crate) fn empty() -> Self {
+        Self {
+            bounds: Aabb::EMPTY,
+            dims: [0; 3],
+            planes: [Box::new([]), Box::new([]), Box::new([])],
+            inv_cell: [0.0; 3],
+            pad: 0.0,
+            entry: Aabb::EMPTY,
+            walk: [Box::new([]), Box::new([]), Box::new([])],
+        }
+    }
+
+    /// The geometry for a finite, non-empty `bounds` and the given cell counts.
+    pub(crate) fn new(bounds: Aabb, dims: [u32; 3]) -> Self {
+        debug_assert!(!bounds.is_empty() && dims.iter().all(|&n| n >= 1));
+        let ext = bounds.extent();
+        let mut magnitude: Real = 0.0;
+        let mut planes: [Box<[Real]>; 3] = [Box::new([]), Box::new([]), Box::new([])];
+        let mut inv_cell = [0.0; 3];
+        for a in 0..3 {
+            let n = dims[a] as usize;
+            let (lo, hi, w) = (bounds.min[a], bounds.max[a], ext[a]);
+            magnitude = magnitude.max(lo.abs()).max(hi.abs()).max(w);
+            let cell = w / n as Real;
+            inv_cell[a] = if w > 0.0 { n as Real / w } else { 0.0 };
+            let mut p: Vec<Real> = (0..=n).map(|i| (lo + i as Real * cell).min(hi)).collect();
+            p[n] = hi;
+            planes[a] = p.into_boxed_slice();
+        }
+        let pad = PAD_ULPS * Real::EPSILON * magnitude;
+        let walk = planes.clone().map(|p| {
+            let mut w = p.into_vec();
+            let n = w.len() - 1;
+            w[0] = Real::NEG_INFINITY;
+            w[n] = Real::INFINITY;
+            w.into_boxed_slice()
+        });
+        let widen = gridrt_bbox::Vec3::splat(pad);
+        Self {
+            bounds,
+            dims,
+            planes,
+            inv_cell,
+            pad,
+            entry: Aabb::new(bounds.min - widen, bounds.max + widen),
+            walk,
+        }
+    }
+
+    /// True when the grid has no cells.
+    #[inline]
+    pub(crate) fn is_empty(&self) -> bool {
+        self.dims[0] == 0
+    }
+
+    /// `dims[0]·dims[1]·dims[2]`.
+    #[inline]
+    pub(crate) fn cell_count(&self) -> u64 {
+        self.dims.iter().map(|&n| u64::from(n)).product()
+    }
+
+    /// The cell along `axis` that holds coordinate `x`, clamped to
+    /// `[0, dims[axis] − 1]`. The guess from the cell size is corrected
+    /// against the stored planes, so the answer satisfies
+    /// `planes[i] <= x < planes[i + 1]` whenever `x` is inside the grid
+    /// (a point on the grid's max face goes to the last cell). NaN maps to 0.
+    #[inline]
+    pub(crate) fn cell_of(&self, axis: usize, x: Real) -> u32 {
+        let planes = &self.planes[axis];
+        let last = self.dims[axis] - 1;
+        let f = (x - planes[0]) * self.inv_cell[axis];
+        // `as` saturates and maps NaN to 0; the clamp does the rest.
+        let mut i = (f as i64).clamp(0, i64::from(last)) as u32;
+        while i > 0 && x < planes[i as usize] {
+            i -= 1;
+        }
+        while i < last && x >= planes[i as usize + 1] {
+            i += 1;
+        }
+        i
+    }
+
+    /// The inclusive cell range `[lo, hi]` per axis that a primitive box
+    /// (widened by the pad) overlaps. The box must be finite and non-empty.
+    #[inline]
+    pub(crate) fn cell_range(&self, b: &Aabb) -> ([u32; 3], [u32; 3]) {
+        let mut lo = [0; 3];
+        let mut hi = [0; 3];
+        for a in 0..3 {
+            lo[a] = self.cell_of(a, b.min[a] - self.pad);
+            hi[a] = self.cell_of(a, b.max[a] + self.pad);
+        }
+        (lo, hi)
+    }
+
+    /// The box of cell `idx`, widened by the pad: the region a primitive
+    /// must touch to be inserted into the cell under exact insertion.
+    #[inline]
+    pub(crate) fn padded_cell_box(&self, idx: [u32; 3]) -> Aabb {
+        let mut b = Aabb::EMPTY;
+        for a in 0..3 {
+            let i = idx[a] as usize;
+            b.min[a] = self.planes[a][i] - self.pad;
+            b.max[a] = self.planes[a][i + 1] + self.pad;
+        }
+        b
+    }
+
+    /// The unpadded box of cell `idx`.
+    pub(crate) fn cell_box(&self, idx: [u32; 3]) -> Aabb {
+        let mut b = Aabb::EMPTY;
+        for a in 0..3 {
+            let i = idx[a] as usize;
+            b.min[a] = self.planes[a][i];
+            b.max[a] = self.planes[a][i + 1];
+        }
+        b
+    }
+}
+
+/// Replaces a meaningless `m` (NaN, infinite, zero or negative) by the
+/// lecture's 2.
+pub(crate) fn sanitize_m(m: Real) -> f64 {
+    let m = f64::from(m);
+    if m.is_finite() && m > 0.0 {
+        m
+    } else {
+        2.0
+    }
+}
+
+/// Cells per axis for `n` primitives in a box of extent `ext`, after the
+/// lecture: `s = cbrt(wx·wy·wz / n)`, `n_a = floor(m·w_a / s) + 1`.
+///
+/// Degenerate extents are handled on purpose. An axis of zero extent, or one
+/// so thin that it would get a single cell anyway, is left out of `s`, which
+/// is then taken from the remaining axes (`s = sqrt(wx·wy / n)` for a flat
+/// scene, `wx / n` for a line), so a flat scene does not get a tiny `s` and
+/// millions of cells. With no extent at all (one point) the grid has one cell.
+/// The total is then scaled down uniformly until it is at most `max_cells`.
+pub(crate) fn resolution(ext: [f64; 3], n: usize, m: f64, max_cells: u64) -> [u32; 3] {
+    let max_cells = max_cells.clamp(1, HARD_MAX_CELLS);
+    let n = n.max(1) as f64;
+    let mut active = [false; 3];
+    for a in 0..3 {
+        active[a] = ext[a].is_finite() && ext[a] > 0.0;
+    }
+    let mut s = 0.0;
+    // Each round drops the axes that would get one cell; at most three rounds.
+    for _ in 0..3 {
+        let k = active.iter().filter(|&&x| x).count();
+        if k == 0 {
+            break;
+        }
+        let prod: f64 = (0..3).filter(|&a| active[a]).map(|a| ext[a]).product();
+        s = (prod / n).powf(1.0 / k as f64);
+        let mut dropped = false;
+        for a in 0..3 {
+            if active[a] && !(m * ext[a] / s >= 1.0) {
+                active[a] = false;
+                dropped = true;
+            }
+        }
+        if !dropped {
+            break;
+        }
+    }
+    let mut dims = [1u64; 3];
+    for a in 0..3 {
+        if active[a] && s > 0.0 {
+            let c = (m * ext[a] / s).floor() + 1.0;
+            // `as` saturates (and maps NaN to 0); keep within Morton range.
+            dims[a] = (c as u64).clamp(1, u64::from(morton::MAX_AXIS_CELLS));
+        }
+    }
+    cap_cells(dims, max_cells)
+}
+
+/// Scales `dims` down uniformly until their product is at most `max_cells`
+/// (at least one cell per axis).
+pub(crate) fn cap_cells(mut dims: [u64; 3], max_cells: u64) -> [u32; 3] {
+    let max_cells = max_cells.max(1);
+    let total = |d: &[u64; 3]| d[0].saturating_mul(d[1]).saturating_mul(d[2]);
+    if total(&dims) > max_cells {
+        let f = (max_cells as f64 / total(&dims) as f64).cbrt();
+        for d in &mut dims {
+            *d = ((*d as f64 * f).floor() as u64).max(1);
+        }
+        // Rounding may leave the product a little too large: trim the longest axis.
+        while total(&dims) > max_cells {
+            let a = (0..3).max_by_key(|&a| dims[a]).unwrap_or(0);
+            dims[a] -= 1;
+        }
+    }
+    dims.map(|d| d.clamp(1, u64::from(morton::MAX_AXIS_CELLS)) as u32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gridrt_bbox::Vec3;
+
+    #[test]
+    fn lecture_formula_on_a_cube() {
+        // 1000 objects in a 2-cube: s = cbrt(8/1000) = 0.2, n = floor(2·2/0.2) + 1 = 21.
+        let d = resolution([2.0; 3], 1000, 2.0, 1 << 26);
+        assert!(d.iter().all(|&n| n == 21 || n == 20), "{d:?}");
+    }
+
+    #[test]
+    fn flat_scene_uses_two_axes() {
+        let d = resolution([1.0, 1.0, 0.0], 100, 2.0, 1 << 26);
+        assert_eq!(d[2], 1);
+        assert!(d[0] >= 20 && d[0] <= 21, "{d:?}");
+        let thin = resolution([1.0, 1.0, 1e-9], 100, 2.0, 1 << 26);
+        assert_eq!(thin, d);
+    }
+
+    #[test]
+    fn point_and_line() {
+        assert_eq!(resolution([0.0; 3], 10, 2.0, 1 << 26), [1, 1, 1]);
+        assert_eq!(resolution([4.0, 0.0, 0.0], 10, 2.0, 1 << 26), [21, 1, 1]);
+    }
+
+    #[test]
+    fn cap_is_respected() {
+        let d = resolution([1.0; 3], 1_000_000, 2.0, 1000);
+        assert!(d.iter().map(|&n| u64::from(n)).product::<u64>() <= 1000);
+        assert_eq!(resolution([1.0; 3], 5, 2.0, 0), [1, 1, 1]);
+        let huge = resolution([1e30, 1e-30, 1.0], usize::MAX, Real::MAX as f64, u64::MAX);
+        assert!(huge.iter().map(|&n| u64::from(n)).product::<u64>() <= HARD_MAX_CELLS);
+    }
+
+    #[test]
+    fn cell_of_agrees_with_planes() {
+        let g = Geom::new(Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0)), [7, 3, 1]);
+        for a in 0..3 {
+            let n = g.dims[a];
+            for i in 0..n {
+                assert_eq!(g.cell_of(a, g.planes[a][i as usize]), i);
+            }
+            assert_eq!(g.cell_of(a, 1.0), n - 1, "max face clamps to the last cell");
+            assert_eq!(g.cell_of(a, -5.0), 0);
+            assert_eq!(g.cell_of(a, Real::NAN), 0);
+            assert_eq!(g.cell_of(a, Real::INFINITY), n - 1);
+        }
+    }
+}

@@ -1,0 +1,715 @@
+//! The regular grid: construction, queries, the cell walk and self-checks.
+
+use crate::build::{self, Cells};
+use crate::counters::{Counters, NoCounters};
+use crate::dda::{CellFn, CellIter, CellLookup, CellVisit, Dda};
+use crate::geom::Geom;
+use crate::table::CellTable;
+use crate::{morton, Accelerator, CellStorage, GridConfig, GridStats, Hit, Primitive};
+use gridrt_bbox::{Aabb, Ray, Real};
+use std::ops::ControlFlow;
+use std::time::Instant;
+
+/// `closest_hit` stops after a cell only if the best hit lies before the
+/// cell's exit by more than this fraction of `|t_exit|` (a few ulps): a hit
+/// on, or within rounding of, the plane between two cells may be tied with a
+/// lower-index primitive in the next cell, which must be tested too.
+const EXIT_MARGIN: Real = 8.0 * Real::EPSILON;
+
+/// A regular (uniform) grid over primitives it owns (Suffern ch. 22).
+///
+/// The grid box is the union of the primitives' boxes, cut into
+/// `dims[0] × dims[1] × dims[2]` equal cells (see [`GridConfig`] for the
+/// resolution). Each cell lists the primitives whose box, widened by a few
+/// ulps, overlaps it; the lists live in one flat array, found through a
+/// Morton-keyed hash table of occupied cells or a dense offset table
+/// ([`CellStorage`]). Queries walk the cells along the ray with a 3D-DDA and
+/// return exactly what [`crate::Exhaustive`] returns.
+///
+/// Primitives whose box is not finite (NaN, infinite or empty) are kept
+/// outside the cells and tested by every query.
+///
+/// The grid is immutable after [`Grid::build`] and `Sync`; per-query working
+/// memory (the mailbox) is the caller's [`GridScratch`].
+#[derive(Clone, Debug)]
+pub struct Grid<P> {
+    prims: Vec<P>,
+    config: GridConfig,
+    geom: Geom,
+    cells: Cells,
+    refs: Box<[u32]>,
+    unbounded: Box<[u32]>,
+    spread: [Box<[u64]>; 3],
+    stats: GridStats,
+}
+
+/// Per-thread working memory of grid queries: the mailbox, one stamp per
+/// primitive holding the id of the last query that tested it, and the
+/// query counter. Made by [`Accelerator::scratch`]; each thread owns its
+/// own, so no global counter or lock is involved.
+#[derive(Clone, Debug, Default)]
+pub struct GridScratch {
+    stamps: Vec<u32>,
+    ray: u32,
+}
+
+impl GridScratch {
+    /// A new query id, after making sure there is one stamp per primitive.
+    /// When the 32-bit id wraps around, all stamps are cleared, so an old
+    /// stamp can never be mistaken for the current query.
+    #[inline]
+    fn begin(&mut self, prims: usize) -> u32 {
+        if self.stamps.len() != prims {
+            self.stamps.clear();
+            self.stamps.resize(prims, 0);
+            self.ray = 0;
+        }
+        self.ray = self.ray.wrapping_add(1);
+        if self.ray == 0 {
+            self.stamps.fill(0);
+            self.ray = 1;
+        }
+        self.ray
+    }
+}
+
+struct DenseLookup<'a> {
+    offsets: &'a [u32],
+    refs: &'a [u32],
+    nx: u64,
+    nxy: u64,
+}
+
+impl<'a> CellLookup<'a> for DenseLookup<'a> {
+    #[inline(always)]
+    fn start(&self, idx: [u32; 3], neg: [bool; 3]) -> (u64, [u64; 3]) {
+        let key = u64::from(idx[0]) + self.nx * u64::from(idx[1]) + self.nxy * u64::from(idx[2]);
+        let s = [1, self.nx, self.nxy];
+        (key, std::array::from_fn(|a| if neg[a] { s[a].wrapping_neg() } else { s[a] }))
+    }
+    #[inline(always)]
+    fn step(st: &[u64; 3], key: u64, axis: usize) -> u64 {
+        key.wrapping_add(st[axis])
+    }
+    #[inline(always)]
+    fn refs(&self, key: u64) -> &'a [u32] {
+        let k = key as usize;
+        debug_assert!(k + 1 < self.offsets.len());
+        // SAFETY: the walk only produces keys of cells inside the grid, and
+        // `offsets` has one entry per cell plus one; the offsets are
+        // nondecreasing and end at `refs.len()` (checked by `check_invariants`).
+        unsafe {
+            let s = *self.offsets.get_unchecked(k) as usize;
+            let e = *self.offsets.get_unchecked(k + 1) as usize;
+            self.refs.get_unchecked(s..e)
+        }
+    }
+}
+
+struct HashedLookup<'a> {
+    table: &'a CellTable,
+    refs: &'a [u32],
+    spread: [&'a [u64]; 3],
+}
+
+impl<'a> CellLookup<'a> for HashedLookup<'a> {
+    #[inline(always)]
+    fn start(&self, idx: [u32; 3], neg: [bool; 3]) -> (u64, [u64; 3]) {
+        let key = self.spread[0][idx[0] as usize] | self.spread[1][idx[1] as usize] | self.spread[2][idx[2] as usize];
+        (key, neg.map(u64::from))
+    }
+    #[inline(always)]
+    fn step(st: &[u64; 3], key: u64, axis: usize) -> u64 {
+        morton::step(key, axis, st[axis] != 0)
+    }
+    #[inline(always)]
+    fn refs(&self, key: u64) -> &'a [u32] {
+        let (s, len) = self.table.get(key);
+        let (s, e) = (s as usize, s as usize + len as usize);
+        debug_assert!(e <= self.refs.len());
+        // SAFETY: every run stored in the table lies within `refs`
+        // (checked by `check_invariants`); empty cells give (0, 0).
+        unsafe { self.refs.get_unchecked(s..e) }
+    }
+}
+
+/// A closure as a [`CellFn`] (for the public visitor).
+struct FnCell<F>(F);
+
+impl<'a, B, F: FnMut(CellVisit, &'a [u32]) -> ControlFlow<B>> CellFn<'a> for FnCell<F> {
+    type Break = B;
+    #[inline(always)]
+    fn call(&mut self, visit: CellVisit, refs: &'a [u32]) -> ControlFlow<B> {
+        (self.0)(visit, refs)
+    }
+}
+
+/// The closest-hit query's per-cell work.
+struct Closest<'q, P, C, const MB: bool> {
+    prims: &'q [P],
+    ray: &'q Ray,
+    t_min: Real,
+    /// `t_max`, then the best hit's t.
+    t_lim: Real,
+    best: Option<Hit>,
+    stamps: &'q mut [u32],
+    stamp: u32,
+    counters: &'q mut C,
+}
+
+impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
+    /// Tests one primitive, keeping its hit if it is better ([`Hit::is_better_than`]).
+    #[inline(always)]
+    fn test(&mut self, p: u32) {
+        self.counters.test();
+        debug_assert!((p as usize) < self.prims.len());
+        // SAFETY: every stored reference is a valid primitive index
+        // (checked by `check_invariants`).
+        let prim = unsafe { self.prims.get_unchecked(p as usize) };
+        if let Some(h) = prim.closest_hit(self.ray, self.t_min, self.t_lim) {
+            let hit = Hit::new(h, p);
+            if self.best.as_ref().map_or(true, |b| hit.is_better_than(b)) {
+                self.t_lim = hit.t;
+                self.best = Some(hit);
+            }
+        }
+    }
+}
+
+impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for Closest<'_, P, C, MB> {
+    type Break = ();
+
+    #[inline(always)]
+    fn call(&mut self, visit: CellVisit, refs: &'a [u32]) -> ControlFlow<()> {
+        self.counters.cell();
+        if refs.is_empty() {
+            return ControlFlow::Continue(());
+        }
+        for &p in refs {
+            if MB {
+                debug_assert!((p as usize) < self.stamps.len());
+                // SAFETY: `GridScratch::begin` sized the stamps to the primitive count.
+                let s = unsafe { self.stamps.get_unchecked_mut(p as usize) };
+                if *s == self.stamp {
+                    self.counters.mailbox_skip();
+                    continue;
+                }
+                *s = self.stamp;
+            }
+            self.test(p);
+        }
+        // Stop only when the best hit is certainly inside this cell: a hit on
+        // (or within rounding of) the exit plane may tie with a lower-index
+        // primitive of the next cell. A hit found here that lies in a later
+        // cell stays in `best` and is confirmed there. (Empty cells cannot
+        // change the answer, so the test is made after occupied ones only.)
+        let t_exit = visit.t_exit;
+        if self.best.is_some() && self.t_lim < t_exit - t_exit.abs() * EXIT_MARGIN {
+            return ControlFlow::Break(());
+        }
+        ControlFlow::Continue(())
+    }
+}
+
+/// The any-hit query's per-cell work.
+struct AnyHit<'q, P, C, const MB: bool> {
+    prims: &'q [P],
+    ray: &'q Ray,
+    t_min: Real,
+    t_max: Real,
+    stamps: &'q mut [u32],
+    stamp: u32,
+    counters: &'q mut C,
+}
+
+impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for AnyHit<'_, P, C, MB> {
+    type Break = ();
+
+    #[inline(always)]
+    fn call(&mut self, _: CellVisit, refs: &'a [u32]) -> ControlFlow<()> {
+        self.counters.cell();
+        for &p in refs {
+            if MB {
+                // SAFETY: `GridScratch::begin` sized the stamps to the primitive count.
+                let s = unsafe { self.stamps.get_unchecked_mut(p as usize) };
+                if *s == self.stamp {
+                    self.counters.mailbox_skip();
+                    continue;
+                }
+                *s = self.stamp;
+            }
+            self.counters.test();
+            // SAFETY: every stored reference is a valid primitive index.
+            let prim = unsafe { self.prims.get_unchecked(p as usize) };
+            if prim.any_hit(self.ray, self.t_min, self.t_max) {
+                return ControlFlow::Break(());
+            }
+        }
+        ControlFlow::Continue(())
+    }
+}
+
+/// Calls `$body` with `$l` bound to the grid's lookup (monomorphised per
+/// storage); `$empty` when the grid has no cells.
+macro_rules! with_lookup {
+    ($self:ident, $l:ident => $body:expr, $empty:expr) => {
+        match &$self.cells {
+            Cells::Dense { offsets } => {
+                let [nx, ny, _] = $self.geom.dims.map(u64::from);
+                let $l = DenseLookup { offsets, refs: &$self.refs, nx, nxy: nx * ny };
+                $body
+            }
+            Cells::Hashed { table } => {
+                let $l = HashedLookup {
+                    table,
+                    refs: &$self.refs,
+                    spread: [&$self.spread[0], &$self.spread[1], &$self.spread[2]],
+                };
+                $body
+            }
+            Cells::Empty => $empty,
+        }
+    };
+}
+
+impl<P: Primitive> Grid<P> {
+    /// Builds a grid over `prims` (which it keeps; their order defines the
+    /// primitive indices of hits).
+    ///
+    /// Never fails: an empty scene gives a grid with no cells, degenerate
+    /// extents (a flat scene, one object, all objects at one point) give
+    /// one cell along the degenerate axes, and primitives with non-finite
+    /// boxes are kept aside and tested by every query. See [`GridConfig`]
+    /// for the resolution and its caps.
+    ///
+    /// # Panics
+    ///
+    /// If there are more than `u32::MAX` primitives (hits name primitives by
+    /// a `u32`).
+    #[must_use]
+    pub fn build(prims: Vec<P>, config: &GridConfig) -> Self {
+        assert!(u32::try_from(prims.len()).is_ok(), "at most u32::MAX primitives");
+        let start = Instant::now();
+        let b = build::build(&prims, config);
+        let build_time = start.elapsed();
+        let mut grid = Self {
+            prims,
+            config: *config,
+            geom: b.geom,
+            cells: b.cells,
+            refs: b.refs,
+            unbounded: b.unbounded,
+            spread: b.spread,
+            stats: GridStats::default(),
+        };
+        let cells = grid.geom.cell_count();
+        let table_bytes = match &grid.cells {
+            Cells::Empty => 0,
+            Cells::Dense { offsets } => std::mem::size_of_val(&**offsets),
+            Cells::Hashed { table } => table.bytes(),
+        };
+        let planes: usize = grid.geom.planes.iter().map(|p| std::mem::size_of_val(&**p)).sum();
+        let spread: usize = grid.spread.iter().map(|s| std::mem::size_of_val(&**s)).sum();
+        grid.stats = GridStats {
+            dims: grid.geom.dims,
+            cells,
+            occupied_cells: b.occupied,
+            references: grid.refs.len() as u64,
+            mean_refs_per_occupied: if b.occupied == 0 {
+                0.0
+            } else {
+                grid.refs.len() as f64 / b.occupied as f64
+            },
+            max_refs_per_cell: b.max_refs,
+            bytes: table_bytes + std::mem::size_of_val(&*grid.refs) + planes + spread + std::mem::size_of_val(&*grid.unbounded),
+            table_bytes,
+            unbounded_prims: grid.unbounded.len() as u64,
+            build_time,
+        };
+        grid
+    }
+
+    /// Numbers describing the grid (dimensions, occupancy, memory, build time).
+    #[must_use]
+    pub fn stats(&self) -> &GridStats {
+        &self.stats
+    }
+
+    /// The grid box: the union of the finite primitive boxes
+    /// ([`Aabb::EMPTY`] when there is none).
+    #[must_use]
+    pub fn bounds(&self) -> Aabb {
+        self.geom.bounds
+    }
+
+    /// Cells per axis (all zero for a grid without cells).
+    #[must_use]
+    pub fn dims(&self) -> [u32; 3] {
+        self.geom.dims
+    }
+
+    /// The configuration the grid was built with.
+    #[must_use]
+    pub fn config(&self) -> &GridConfig {
+        &self.config
+    }
+
+    /// The primitives, in index order.
+    #[must_use]
+    pub fn primitives(&self) -> &[P] {
+        &self.prims
+    }
+
+    /// Gives the primitives back, in their original order.
+    #[must_use]
+    pub fn into_primitives(self) -> Vec<P> {
+        self.prims
+    }
+
+    /// Indices of the primitives kept outside the cells (non-finite boxes).
+    #[must_use]
+    pub fn unbounded_primitives(&self) -> &[u32] {
+        &self.unbounded
+    }
+
+    /// The box of cell `index` (without the insertion pad); `None` outside the grid.
+    #[must_use]
+    pub fn cell_bounds(&self, index: [u32; 3]) -> Option<Aabb> {
+        self.in_grid(index).then(|| self.geom.cell_box(index))
+    }
+
+    /// The primitive indices stored in cell `index`, ascending; empty for an
+    /// unoccupied cell or an index outside the grid.
+    #[must_use]
+    pub fn cell_refs(&self, index: [u32; 3]) -> &[u32] {
+        if !self.in_grid(index) {
+            return &[];
+        }
+        with_lookup!(self, l => { let (k, _) = l.start(index, [false; 3]); l.refs(k) }, &[])
+    }
+
+    fn in_grid(&self, index: [u32; 3]) -> bool {
+        (0..3).all(|a| index[a] < self.geom.dims[a])
+    }
+
+    /// The cells the ray passes through within `[t_min, t_max]`, in order,
+    /// each with its parametric interval: a non-allocating 3D-DDA
+    /// (Amanatides & Woo 1987). Empty when the ray misses the grid box in
+    /// that range, or the range is empty or NaN.
+    ///
+    /// The walk enters through the robust [`Aabb::hit`]; an entry on the
+    /// grid's max face starts in the last cell; an axis along which the ray
+    /// does not move (direction ±0, or a denormal whose reciprocal overflows)
+    /// is never stepped.
+    pub fn cells_along(&self, ray: &Ray, t_min: Real, t_max: Real) -> CellIter<'_> {
+        CellIter::new(Dda::new(&self.geom, ray, t_min, t_max))
+    }
+
+    /// Calls `f` for every cell along the ray within `[t_min, t_max]`, in
+    /// order, with the cell's visit and its primitive indices (empty for an
+    /// unoccupied cell), until `f` returns `ControlFlow::Break`. The same
+    /// walk as [`Grid::cells_along`], with the cell lookup done.
+    pub fn visit_cells<B>(
+        &self,
+        ray: &Ray,
+        t_min: Real,
+        t_max: Real,
+        mut f: impl FnMut(CellVisit, &[u32]) -> ControlFlow<B>,
+    ) -> ControlFlow<B> {
+        let Some(dda) = Dda::new(&self.geom, ray, t_min, t_max) else {
+            return ControlFlow::Continue(());
+        };
+        with_lookup!(self, l => dda.walk(&l, &mut FnCell(|v, r| f(v, r))), ControlFlow::Continue(()))
+    }
+
+    /// [`Accelerator::closest_hit`] that also reports cells visited, tests
+    /// made and mailbox skips to `counters`.
+    pub fn closest_hit_counted<C: Counters>(
+        &self,
+        ray: &Ray,
+        t_min: Real,
+        t_max: Real,
+        scratch: &mut GridScratch,
+        counters: &mut C,
+    ) -> Option<Hit> {
+        if self.config.mailbox {
+            self.closest::<C, true>(ray, t_min, t_max, scratch, counters)
+        } else {
+            self.closest::<C, false>(ray, t_min, t_max, scratch, counters)
+        }
+    }
+
+    /// [`Accelerator::any_hit`] that also reports to `counters`.
+    pub fn any_hit_counted<C: Counters>(
+        &self,
+        ray: &Ray,
+        t_min: Real,
+        t_max: Real,
+        scratch: &mut GridScratch,
+        counters: &mut C,
+    ) -> bool {
+        if self.config.mailbox {
+            self.any::<C, true>(ray, t_min, t_max, scratch, counters)
+        } else {
+            self.any::<C, false>(ray, t_min, t_max, scratch, counters)
+        }
+    }
+
+    #[inline(always)]
+    fn closest<C: Counters, const MB: bool>(
+        &self,
+        ray: &Ray,
+        t_min: Real,
+        t_max: Real,
+        scratch: &mut GridScratch,
+        counters: &mut C,
+    ) -> Option<Hit> {
+        counters.ray();
+        if !(t_min <= t_max) {
+            return None;
+        }
+        let mut q = Closest::<P, C, MB> {
+            prims: &self.prims,
+            ray,
+            t_min,
+            t_lim: t_max,
+            best: None,
+            stamps: &mut [],
+            stamp: 0,
+            counters,
+        };
+        for &p in self.unbounded.iter() {
+            q.test(p);
+        }
+        let Some(dda) = Dda::new(&self.geom, ray, t_min, t_max) else {
+            return q.best;
+        };
+        if MB {
+            q.stamp = scratch.begin(self.prims.len());
+            q.stamps = &mut scratch.stamps;
+        }
+        let _ = with_lookup!(self, l => dda.walk(&l, &mut q), ControlFlow::Continue(()));
+        q.best
+    }
+
+    #[inline(always)]
+    fn any<C: Counters, const MB: bool>(
+        &self,
+        ray: &Ray,
+        t_min: Real,
+        t_max: Real,
+        scratch: &mut GridScratch,
+        counters: &mut C,
+    ) -> bool {
+        counters.ray();
+        if !(t_min <= t_max) {
+            return false;
+        }
+        for &p in self.unbounded.iter() {
+            counters.test();
+            if self.prims[p as usize].any_hit(ray, t_min, t_max) {
+                return true;
+            }
+        }
+        let Some(dda) = Dda::new(&self.geom, ray, t_min, t_max) else {
+            return false;
+        };
+        let mut q = AnyHit::<P, C, MB> { prims: &self.prims, ray, t_min, t_max, stamps: &mut [], stamp: 0, counters };
+        if MB {
+            q.stamp = scratch.begin(self.prims.len());
+            q.stamps = &mut scratch.stamps;
+        }
+        with_lookup!(self, l => dda.walk(&l, &mut q), ControlFlow::Continue(())).is_break()
+    }
+
+    /// Checks the grid's internal consistency; `Err` names the first
+    /// violation. Meant for tests (it is slow: it re-derives every
+    /// primitive's cells).
+    ///
+    /// Checked: the geometry (planes nondecreasing from the box's min to its
+    /// max, cell count within the cap), the CSR layout (offsets or table
+    /// runs inside the reference array, ascending primitive indices per
+    /// cell, keys in Morton order), that every gridded primitive is in
+    /// exactly the cells its padded box overlaps (or, with exact insertion,
+    /// in every such cell it reports touching and no other), that the
+    /// unbounded list holds exactly the primitives with non-finite boxes,
+    /// and that the stats match.
+    pub fn check_invariants(&self) -> Result<(), String> {
+        let g = &self.geom;
+        let n = self.prims.len();
+        if g.is_empty() {
+            if !self.refs.is_empty() || !matches!(self.cells, Cells::Empty) {
+                return Err("empty grid with cells or references".into());
+            }
+        } else {
+            for a in 0..3 {
+                let p = &g.planes[a];
+                if g.dims[a] == 0 || p.len() != g.dims[a] as usize + 1 {
+                    return Err(format!("axis {a}: {} planes for {} cells", p.len(), g.dims[a]));
+                }
+                if p[0] != g.bounds.min[a] || p[p.len() - 1] != g.bounds.max[a] {
+                    return Err(format!("axis {a}: planes do not span the grid box"));
+                }
+                if p.windows(2).any(|w| !(w[0] <= w[1])) {
+                    return Err(format!("axis {a}: planes not nondecreasing"));
+                }
+            }
+            if g.cell_count() > self.config.max_cells.max(1) {
+                return Err(format!("{} cells exceed max_cells {}", g.cell_count(), self.config.max_cells));
+            }
+        }
+        if let Some(&p) = self.refs.iter().find(|&&p| p as usize >= n) {
+            return Err(format!("reference to primitive {p} of {n}"));
+        }
+        // Every cell's run, by key order.
+        let mut runs: Vec<(u64, [u32; 3], u32, u32)> = Vec::new();
+        match &self.cells {
+            Cells::Empty => {}
+            Cells::Dense { offsets } => {
+                if offsets.len() as u64 != g.cell_count() + 1 {
+                    return Err("dense offsets: wrong length".into());
+                }
+                if offsets[0] != 0 || offsets[offsets.len() - 1] as usize != self.refs.len() {
+                    return Err("dense offsets do not span the references".into());
+                }
+                let [nx, ny, _] = g.dims;
+                for c in 0..offsets.len() - 1 {
+                    let (s, e) = (offsets[c], offsets[c + 1]);
+                    if s > e {
+                        return Err(format!("dense offsets decrease at cell {c}"));
+                    }
+                    if e > s {
+                        let c32 = c as u32;
+                        let idx = [c32 % nx, (c32 / nx) % ny, c32 / (nx * ny)];
+                        runs.push((c as u64, idx, s, e - s));
+                    }
+                }
+            }
+            Cells::Hashed { table } => {
+                let mut slots: Vec<_> = table.occupied().copied().collect();
+                slots.sort_by_key(|s| s.start);
+                let mut next = 0u32;
+                let mut prev_key = None;
+                for s in &slots {
+                    if s.start != next || s.len == 0 {
+                        return Err(format!("hashed runs not contiguous at {}", s.start));
+                    }
+                    next = s.start + s.len;
+                    if prev_key.is_some_and(|k| k >= s.key) {
+                        return Err("references not in Morton order".into());
+                    }
+                    prev_key = Some(s.key);
+                    let idx = morton::decode3(s.key);
+                    if !self.in_grid(idx) {
+                        return Err(format!("cell key {} outside the grid", s.key));
+                    }
+                    if table.get(s.key) != (s.start, s.len) {
+                        return Err(format!("cell key {} not found by probing", s.key));
+                    }
+                    runs.push((s.key, idx, s.start, s.len));
+                }
+                if next as usize != self.refs.len() {
+                    return Err("hashed runs do not span the references".into());
+                }
+                if table.capacity() < 2 * slots.len() {
+                    return Err("hash table over half full".into());
+                }
+            }
+        }
+        // Expected (cell, primitive) pairs against the stored ones.
+        let mut stored: Vec<([u32; 3], u32)> = Vec::with_capacity(self.refs.len());
+        for &(_, idx, s, len) in &runs {
+            let r = &self.refs[s as usize..(s + len) as usize];
+            if r.windows(2).any(|w| w[0] >= w[1]) {
+                return Err(format!("cell {idx:?}: references not strictly ascending"));
+            }
+            stored.extend(r.iter().map(|&p| (idx, p)));
+        }
+        let mut expected = Vec::with_capacity(stored.len());
+        let mut unbounded = Vec::new();
+        for (p, prim) in self.prims.iter().enumerate() {
+            let b = prim.bounds();
+            if !build::is_gridded(&b) {
+                unbounded.push(p as u32);
+                continue;
+            }
+            if g.is_empty() {
+                return Err(format!("primitive {p} is finite but the grid is empty"));
+            }
+            if !g.bounds.contains(b.min) || !g.bounds.contains(b.max) {
+                return Err(format!("primitive {p} sticks out of the grid box"));
+            }
+            let (lo, hi) = g.cell_range(&b);
+            for k in lo[2]..=hi[2] {
+                for j in lo[1]..=hi[1] {
+                    for i in lo[0]..=hi[0] {
+                        let inside = !self.config.exact_insertion
+                            || lo == hi
+                            || prim.overlaps_box(&g.padded_cell_box([i, j, k]));
+                        if inside {
+                            expected.push(([i, j, k], p as u32));
+                        }
+                    }
+                }
+            }
+        }
+        if unbounded[..] != self.unbounded[..] {
+            return Err("unbounded list does not match the non-finite boxes".into());
+        }
+        stored.sort_unstable();
+        expected.sort_unstable();
+        if stored != expected {
+            let missing = expected.iter().find(|x| stored.binary_search(x).is_err());
+            let extra = stored.iter().find(|x| expected.binary_search(x).is_err());
+            return Err(format!("cell contents differ: missing {missing:?}, extra {extra:?}"));
+        }
+        let s = &self.stats;
+        if s.dims != g.dims || s.references != self.refs.len() as u64 || s.occupied_cells != runs.len() as u64 {
+            return Err("stats do not match the grid".into());
+        }
+        if s.max_refs_per_cell != runs.iter().map(|r| r.3).max().unwrap_or(0) {
+            return Err("stats: wrong max references per cell".into());
+        }
+        Ok(())
+    }
+}
+
+impl<P: Primitive> Accelerator for Grid<P> {
+    type Prim = P;
+    type Scratch = GridScratch;
+
+    /// A mailbox sized to the primitives when `config.mailbox` is on,
+    /// otherwise an empty scratch (nothing allocated).
+    fn scratch(&self) -> GridScratch {
+        if self.config.mailbox {
+            GridScratch {
+                stamps: vec![0; self.prims.len()],
+                ray: 0,
+            }
+        } else {
+            GridScratch::default()
+        }
+    }
+
+    fn primitives(&self) -> &[P] {
+        &self.prims
+    }
+
+    #[inline]
+    fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real, scratch: &mut GridScratch) -> Option<Hit> {
+        self.closest_hit_counted(ray, t_min, t_max, scratch, &mut NoCounters)
+    }
+
+    #[inline]
+    fn any_hit(&self, ray: &Ray, t_min: Real, t_max: Real, scratch: &mut GridScratch) -> bool {
+        self.any_hit_counted(ray, t_min, t_max, scratch, &mut NoCounters)
+    }
+}
+
+impl<P> Grid<P> {
+    /// The cell storage in use ([`GridConfig::storage`]).
+    #[must_use]
+    pub fn storage(&self) -> CellStorage {
+        self.config.storage
+    }
+}

@@ -1,0 +1,113 @@
+//! A stable least-significant-digit radix sort, parallel over chunks when
+//! asked (the build's sort of (cell key, primitive) pairs, after Kalojanov &
+//! Slusallek 2009, "A parallel algorithm for construction of uniform grids").
+
+use crate::par::{chunk_bounds, chunk_count, map_indices, SharedMut};
+
+/// The widest digit: 4096 buckets, whose write streams still fit in L2.
+const MAX_DIGIT_BITS: u32 = 12;
+
+/// Below this length the standard library's stable sort is used.
+const SMALL: usize = 1 << 12;
+
+/// Sorts `data` stably by `key(x)`, of which only the low `key_bits` bits may
+/// be set. `tmp` is scratch space (resized as needed).
+pub(crate) fn sort_by_key<T, K>(data: &mut Vec<T>, tmp: &mut Vec<T>, key_bits: u32, key: K, parallel: bool)
+where
+    T: Copy + Send + Sync,
+    K: Fn(&T) -> u64 + Sync + Send,
+{
+    let len = data.len();
+    if key_bits == 0 || len < 2 {
+        return;
+    }
+    if len < SMALL {
+        data.sort_by_key(|x| key(x));
+        return;
+    }
+    let passes = key_bits.div_ceil(MAX_DIGIT_BITS);
+    let width = key_bits.div_ceil(passes);
+    let buckets = 1usize << width;
+    let mask = (buckets - 1) as u64;
+    let chunks = chunk_count(len, parallel, 1 << 16);
+    for pass in 0..passes {
+        let shift = pass * width;
+        let digit = |x: &T| ((key(x) >> shift) & mask) as usize;
+        // Per-chunk histograms of this digit.
+        let src: &[T] = data;
+        let hists: Vec<Vec<u32>> = map_indices(chunks, parallel, |c| {
+            let (s, e) = chunk_bounds(len, chunks, c);
+            let mut h = vec![0u32; buckets];
+            for x in &src[s..e] {
+                h[digit(x)] += 1;
+            }
+            h
+        });
+        // All items in one bucket: this digit is constant, the pass would not move anything.
+        let mut totals = vec![0usize; buckets];
+        for h in &hists {
+            for (t, &c) in totals.iter_mut().zip(h) {
+                *t += c as usize;
+            }
+        }
+        if totals.iter().any(|&t| t == len) {
+            continue;
+        }
+        // Chunk c's items of bucket b go after all items of smaller buckets
+        // and after chunk c' < c's items of bucket b: this keeps the sort stable.
+        let mut starts = vec![vec![0usize; buckets]; chunks];
+        let mut acc = 0usize;
+        for b in 0..buckets {
+            for c in 0..chunks {
+                starts[c][b] = acc;
+                acc += hists[c][b] as usize;
+            }
+        }
+        tmp.clear();
+        tmp.reserve(len);
+        let dst = SharedMut(tmp.as_mut_ptr());
+        let starts = &starts;
+        map_indices(chunks, parallel, |c| {
+            let (s, e) = chunk_bounds(len, chunks, c);
+            let mut pos = starts[c].clone();
+            for x in &src[s..e] {
+                let d = digit(x);
+                // SAFETY: positions [starts[c][b], starts[c][b] + hists[c][b]) are
+                // this chunk's alone, and all lie below `len`.
+                unsafe { dst.write(pos[d], *x) };
+                pos[d] += 1;
+            }
+        });
+        // SAFETY: the scatter wrote every position below `len` exactly once
+        // (the bucket ranges partition `0..len`), within the reserved capacity.
+        unsafe { tmp.set_len(len) };
+        std::mem::swap(data, tmp);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lcg(s: &mut u64) -> u64 {
+        *s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        *s >> 33
+    }
+
+    #[test]
+    fn sorts_stably_like_std() {
+        for &(n, bits) in &[(10usize, 5u32), (5000, 7), (70_000, 24), (100_000, 30), (20_000, 40)] {
+            let mut s = 7u64;
+            let mut v: Vec<(u64, u32)> = (0..n as u32).map(|i| (lcg(&mut s) & ((1u64 << bits) - 1).min(u64::MAX), i)).collect();
+            let mut want = v.clone();
+            want.sort_by_key(|x| x.0);
+            for parallel in [false, true] {
+                let mut got = v.clone();
+                let mut tmp = Vec::new();
+                sort_by_key(&mut got, &mut tmp, bits, |x| x.0, parallel);
+                assert_eq!(got, want, "n = {n}, bits = {bits}, parallel = {parallel}");
+            }
+            v.clear();
+        }
+    }
+}

@@ -1,0 +1,174 @@
+//! Property tests: on random and adversarial scenes the grid returns exactly
+//! the exhaustive answer (same primitive, bitwise-equal t, u, v) for every
+//! ray — hashed and dense, mailbox on and off, exact insertion on and off,
+//! for closest hit and any hit. Case counts are modest so the suite stays fast.
+
+use crate::support::prims::{Shape, Sphere, Triangle};
+use crate::support::{all_configs, Checker};
+use gridrt_grid::{GridConfig, Ray, Real, Vec3};
+use proptest::prelude::*;
+
+/// `cases` cases, or `PROPTEST_CASES` when set (for a long soak run).
+fn cfg(cases: u32) -> ProptestConfig {
+    let cases = std::env::var("PROPTEST_CASES").ok().and_then(|s| s.parse().ok()).unwrap_or(cases);
+    ProptestConfig { cases, failure_persistence: None, ..ProptestConfig::default() }
+}
+
+fn vec3(c: impl Strategy<Value = Real> + Clone) -> impl Strategy<Value = Vec3> {
+    (c.clone(), c.clone(), c).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+fn cont() -> impl Strategy<Value = Real> + Clone {
+    -4.0 as Real..4.0
+}
+
+/// Integers and half-integers in `[−4, 4]`: on the cell planes of 8³ and 16³ grids over `[−4, 4]³`.
+fn lattice() -> impl Strategy<Value = Real> + Clone {
+    (-8i32..=8).prop_map(|i| i as Real * 0.5)
+}
+
+/// A direction component that is often exactly zero (of either sign).
+fn dir_comp() -> impl Strategy<Value = Real> + Clone {
+    prop_oneof![
+        3 => -1.0 as Real..1.0,
+        1 => Just(0.0 as Real),
+        1 => Just(-0.0 as Real),
+        1 => prop::sample::select(vec![1.0 as Real, -1.0, 2.0, -0.5]),
+    ]
+}
+
+fn direction() -> impl Strategy<Value = Vec3> {
+    vec3(dir_comp()).prop_filter("non-zero direction", |d| d.length_squared() > 1e-6)
+}
+
+fn sphere(c: impl Strategy<Value = Real> + Clone, radii: impl Strategy<Value = Real>) -> impl Strategy<Value = Shape> {
+    (vec3(c), radii).prop_map(|(p, r)| Shape::Sphere(Sphere::new(p, r)))
+}
+
+fn triangle(c: impl Strategy<Value = Real> + Clone) -> impl Strategy<Value = Shape> {
+    (vec3(c.clone()), vec3(c.clone()), vec3(c)).prop_map(|(a, b, c)| Shape::Triangle(Triangle::new(a, b, c)))
+}
+
+/// Triangles over a small pool of lattice points: many shared edges and vertices.
+fn fan(pool: Vec<Vec3>, n: usize) -> impl Strategy<Value = Vec<Shape>> {
+    let k = pool.len();
+    prop::collection::vec((0..k, 0..k, 0..k), 1..n).prop_map(move |ix| {
+        ix.into_iter()
+            .filter(|(a, b, c)| a != b && b != c && a != c)
+            .map(|(a, b, c)| Shape::Triangle(Triangle::new(pool[a], pool[b], pool[c])))
+            .collect()
+    })
+}
+
+/// Rays: an origin, a direction and a range.
+fn rays(origin: impl Strategy<Value = Real> + Clone, n: usize) -> impl Strategy<Value = Vec<(Vec3, Vec3, Real, Real)>> {
+    let range = prop_oneof![
+        3 => Just((0.0 as Real, Real::INFINITY)),
+        1 => (0.0 as Real..3.0, 0.0 as Real..6.0).prop_map(|(a, b)| (a, a + b)),
+        1 => (0.0 as Real..4.0).prop_map(|a| (a, a)),
+    ];
+    prop::collection::vec((vec3(origin), direction(), range), n).prop_map(|v| v.into_iter().map(|(o, d, (a, b))| (o, d, a, b)).collect())
+}
+
+fn run(scene: Vec<Shape>, configs: &[GridConfig], rays: &[(Vec3, Vec3, Real, Real)]) {
+    let c = Checker::new(scene, configs);
+    for &(o, d, t0, t1) in rays {
+        c.check(&Ray::new(o, d), t0, t1);
+        // The same line from far away, through the scene.
+        c.check(&Ray::new(o - d * 7.0, d), 0.0, Real::INFINITY);
+    }
+}
+
+/// Two small triangles that pin the grid box to exactly `[−4, 4]³`.
+fn pins() -> Vec<Shape> {
+    let t = |a: Real, b: Real| Shape::Triangle(Triangle::new(Vec3::splat(a), Vec3::new(a, a, b), Vec3::new(b, a, a)));
+    vec![t(-4.0, -3.5), t(4.0, 3.5)]
+}
+
+/// All configs, over the automatic resolution and 8³ and 16³ grids whose
+/// cell planes are the (half-)integers of `[−4, 4]`.
+fn aligned_configs() -> Vec<GridConfig> {
+    let mut v = all_configs();
+    for d in [8, 16] {
+        v.extend(all_configs().into_iter().map(|c| GridConfig { dims: Some([d, d, d]), ..c }));
+    }
+    v
+}
+
+proptest! {
+    #![proptest_config(cfg(40))]
+
+    #[test]
+    fn random_spheres_and_triangles(
+        spheres in prop::collection::vec(sphere(cont(), 0.01 as Real..1.5), 0..30),
+        tris in prop::collection::vec(triangle(cont()), 0..30),
+        rays in rays(-6.0 as Real..6.0, 30),
+    ) {
+        let mut scene = spheres;
+        scene.extend(tris);
+        run(scene, &all_configs(), &rays);
+    }
+
+    #[test]
+    fn integer_coordinates_hits_on_cell_planes(
+        spheres in prop::collection::vec(sphere(lattice(), prop::sample::select(vec![0.5 as Real, 1.0, 0.0])), 0..20),
+        tris in prop::collection::vec(triangle(lattice()), 0..25),
+        rays in rays(lattice(), 30),
+    ) {
+        // Keep everything inside [−4, 4]³ so the pins fix the grid box.
+        let mut scene = pins();
+        scene.extend(spheres.into_iter().filter(|s| match s {
+            Shape::Sphere(s) => (s.center.abs() + Vec3::splat(s.radius)).max_element() <= 4.0,
+            Shape::Triangle(_) => true,
+        }));
+        scene.extend(tris);
+        run(scene, &aligned_configs(), &rays);
+    }
+
+    #[test]
+    fn shared_edges_and_vertices(
+        tris in fan(
+            (0..27).map(|i| Vec3::new((i % 3) as Real * 4.0 - 4.0, ((i / 3) % 3) as Real * 4.0 - 4.0, (i / 9) as Real * 4.0 - 4.0)).collect(),
+            40,
+        ),
+        rays in rays(lattice(), 40),
+    ) {
+        let mut scene = pins();
+        scene.extend(tris);
+        run(scene, &aligned_configs(), &rays);
+    }
+
+    #[test]
+    fn meshes_of_quads_on_cell_planes(
+        cells in prop::collection::vec((-4i32..4, -4i32..4, -4i32..=4, 0usize..3), 1..30),
+        rays in rays(lattice(), 40),
+    ) {
+        // Unit quads (two triangles sharing a diagonal) lying in the planes x, y or z = integer.
+        let mut scene = pins();
+        for (a, b, c, axis) in cells {
+            let p = |u: i32, w: i32| {
+                let mut q = [u as Real, w as Real, c as Real];
+                q.rotate_right(axis);
+                Vec3::from_array(q.map(|x| x as _))
+            };
+            scene.push(Shape::Triangle(Triangle::new(p(a, b), p(a + 1, b), p(a + 1, b + 1))));
+            scene.push(Shape::Triangle(Triangle::new(p(a, b), p(a + 1, b + 1), p(a, b + 1))));
+        }
+        run(scene, &aligned_configs(), &rays);
+    }
+}
+
+proptest! {
+    #![proptest_config(cfg(12))]
+
+    #[test]
+    fn clustered_scenes_teapot_in_a_stadium(
+        small in prop::collection::vec(sphere(-0.05 as Real..0.05, 0.001 as Real..0.01), 1..60),
+        big in prop::collection::vec(triangle(-40.0 as Real..40.0), 1..6),
+        rays in rays(-0.1 as Real..0.1, 30),
+    ) {
+        let mut scene = big;
+        scene.extend(small);
+        run(scene, &all_configs(), &rays);
+    }
+}

@@ -1,0 +1,10 @@
+//! Integration tests of gridrt-grid: hard numerical cases, build edge cases,
+//! and property tests that the grid answers exactly like the exhaustive
+//! baseline. One test binary (parry3d's layout).
+
+mod support;
+
+mod build;
+mod equivalence;
+mod hard_cases;
+mod traversal;

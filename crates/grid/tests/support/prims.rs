@@ -1,0 +1,231 @@
+//! Test-only primitives: a sphere with a robust quadratic and a watertight
+//! triangle. They live under `tests/` (and are included by the benches with
+//! `#[path]`) because the grid crate itself knows no shapes.
+
+use gridrt_grid::{Aabb, PrimHit, Primitive, Ray, Real, Vec3};
+
+/// A sphere. The intersection follows Haines et al., "Precision Improvements
+/// for Ray/Sphere Intersection" (Ray Tracing Gems, ch. 7): the discriminant
+/// is computed from the distance of the centre to the ray's line, which keeps
+/// grazing hits accurate, and the second root comes from Vieta's formula.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere {
+    /// The centre.
+    pub center: Vec3,
+    /// The radius (non-negative).
+    pub radius: Real,
+}
+
+impl Sphere {
+    /// A sphere at `center` with `radius`.
+    pub fn new(center: Vec3, radius: Real) -> Self {
+        Self { center, radius }
+    }
+}
+
+impl Primitive for Sphere {
+    #[inline(always)]
+    fn bounds(&self) -> Aabb {
+        let r = Vec3::splat(self.radius);
+        Aabb::new(self.center - r, self.center + r)
+    }
+
+    #[inline(always)]
+    fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
+        let f = ray.origin - self.center;
+        let d = ray.dir;
+        let a = d.dot(d);
+        let b = f.dot(d);
+        let r2 = self.radius * self.radius;
+        // The discriminant is a·(r² − |l|²) with l = f − (b/a)·d, the vector from
+        // the centre to the nearest point of the line. Its sign is that of
+        // a²r² − |a·f − b·d|², which needs no division: misses (most tests)
+        // return here.
+        let m = f * a - d * b;
+        let miss = m.dot(m) - a * a * r2;
+        if !(miss <= 0.0) {
+            return None;
+        }
+        let l = f - d * (b / a);
+        let disc = a * (r2 - l.dot(l));
+        if !(disc >= 0.0) {
+            return None;
+        }
+        let c = f.dot(f) - r2;
+        let q = -(b + disc.sqrt().copysign(b));
+        let (t0, t1) = if q == 0.0 { (0.0, 0.0) } else { (q / a, c / q) };
+        let (t0, t1) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+        let t = if t0 >= t_min && t0 <= t_max {
+            t0
+        } else if t1 >= t_min && t1 <= t_max {
+            t1
+        } else {
+            return None;
+        };
+        Some(PrimHit { t, u: 0.0, v: 0.0 })
+    }
+
+    /// The squared distance from the centre to the box against `r²`, with a
+    /// little slack so that rounding never culls a touching sphere.
+    fn overlaps_box(&self, cell: &Aabb) -> bool {
+        let q = self.center.clamp(cell.min, cell.max);
+        let d2 = (q - self.center).length_squared();
+        let r2 = self.radius * self.radius;
+        d2 <= r2 * (1.0 + 1e-4) + Real::MIN_POSITIVE
+    }
+}
+
+/// A triangle with the watertight intersection of Woop, Benthin & Wald,
+/// "Watertight Ray/Triangle Intersection" (JCGT 2013): the ray is sheared so
+/// that it runs along +z, and the edge functions are evaluated in 2D (in f64
+/// when one comes out exactly 0), so a ray through a shared edge or vertex
+/// hits exactly one of the triangles around it, or all of them at the same t.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triangle {
+    /// The three vertices.
+    pub v: [Vec3; 3],
+}
+
+impl Triangle {
+    /// A triangle from its vertices.
+    pub fn new(a: Vec3, b: Vec3, c: Vec3) -> Self {
+        Self { v: [a, b, c] }
+    }
+}
+
+impl Primitive for Triangle {
+    #[inline(always)]
+    fn bounds(&self) -> Aabb {
+        Aabb::new(self.v[0].min(self.v[1]).min(self.v[2]), self.v[0].max(self.v[1]).max(self.v[2]))
+    }
+
+    #[inline(always)]
+    fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
+        let d = ray.dir;
+        let ad = d.abs();
+        // The dimension where the direction is largest becomes z.
+        let kz = if ad.x > ad.y {
+            if ad.x > ad.z {
+                0
+            } else {
+                2
+            }
+        } else if ad.y > ad.z {
+            1
+        } else {
+            2
+        };
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        // Keep the winding: swap when the z direction is negative.
+        if d[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let sz = 1.0 / d[kz];
+        let sx = d[kx] * sz;
+        let sy = d[ky] * sz;
+        let a = self.v[0] - ray.origin;
+        let b = self.v[1] - ray.origin;
+        let c = self.v[2] - ray.origin;
+        let ax = a[kx] - sx * a[kz];
+        let ay = a[ky] - sy * a[kz];
+        let bx = b[kx] - sx * b[kz];
+        let by = b[ky] - sy * b[kz];
+        let cx = c[kx] - sx * c[kz];
+        let cy = c[ky] - sy * c[kz];
+        let mut u = cx * by - cy * bx;
+        let mut v = ax * cy - ay * cx;
+        let mut w = bx * ay - by * ax;
+        // Exactly on an edge: redo the edge functions in double precision.
+        if u == 0.0 || v == 0.0 || w == 0.0 {
+            let (ax, ay, bx, by, cx, cy) = (ax as f64, ay as f64, bx as f64, by as f64, cx as f64, cy as f64);
+            u = (cx * by - cy * bx) as Real;
+            v = (ax * cy - ay * cx) as Real;
+            w = (bx * ay - by * ax) as Real;
+        }
+        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+            return None;
+        }
+        let det = u + v + w;
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        let az = sz * a[kz];
+        let bz = sz * b[kz];
+        let cz = sz * c[kz];
+        let t_scaled = u * az + v * bz + w * cz;
+        let inv = 1.0 / det;
+        let t = t_scaled * inv;
+        if !(t >= t_min && t <= t_max) {
+            return None;
+        }
+        Some(PrimHit { t, u: v * inv, v: w * inv })
+    }
+
+    /// Separating-axis test of the triangle against the box (Akenine-Möller
+    /// 2001), with a relative tolerance on every comparison so that it errs
+    /// on the side of "overlaps".
+    fn overlaps_box(&self, cell: &Aabb) -> bool {
+        if !self.bounds().overlaps(cell) {
+            return false;
+        }
+        let c = cell.centroid();
+        let h = (cell.max - cell.min) * 0.5;
+        let v = self.v.map(|p| p - c);
+        let e = [v[1] - v[0], v[2] - v[1], v[0] - v[2]];
+        let scale = v.iter().map(|p| p.abs().max_element()).fold(h.max_element(), Real::max);
+        let tol = 1e-4 * scale + Real::MIN_POSITIVE;
+        let axes = [Vec3::X, Vec3::Y, Vec3::Z];
+        let separated = |axis: Vec3| -> bool {
+            // Unit axes, so the tolerance is a length.
+            let Some(axis) = axis.try_normalize() else {
+                return false;
+            };
+            let p = v.map(|q| q.dot(axis));
+            let r = h.x * axis.x.abs() + h.y * axis.y.abs() + h.z * axis.z.abs();
+            let lo = p[0].min(p[1]).min(p[2]);
+            let hi = p[0].max(p[1]).max(p[2]);
+            lo > r + tol || hi < -r - tol
+        };
+        for ed in &e {
+            for ax in &axes {
+                if separated(ed.cross(*ax)) {
+                    return false;
+                }
+            }
+        }
+        !separated(e[0].cross(e[1]))
+    }
+}
+
+/// Either shape, as an enum (static dispatch, like the tracer's shapes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Shape {
+    /// A sphere.
+    Sphere(Sphere),
+    /// A triangle.
+    Triangle(Triangle),
+}
+
+impl Primitive for Shape {
+    #[inline(always)]
+    fn bounds(&self) -> Aabb {
+        match self {
+            Shape::Sphere(s) => s.bounds(),
+            Shape::Triangle(t) => t.bounds(),
+        }
+    }
+    #[inline(always)]
+    fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
+        match self {
+            Shape::Sphere(s) => s.closest_hit(ray, t_min, t_max),
+            Shape::Triangle(t) => t.closest_hit(ray, t_min, t_max),
+        }
+    }
+    fn overlaps_box(&self, cell: &Aabb) -> bool {
+        match self {
+            Shape::Sphere(s) => s.overlaps_box(cell),
+            Shape::Triangle(t) => t.overlaps_box(cell),
+        }
+    }
+}

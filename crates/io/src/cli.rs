@@ -1,0 +1,570 @@
+//! The `gridrt` command line: argument definitions (clap) and the commands.
+//! `src/main.rs` only parses, calls [`run`] and turns an error into one line.
+
+use crate::error::{Error, Result};
+use crate::image_out::{check_image_path, check_output_dir, write_atomic};
+use crate::model::load_model;
+use crate::rays::{format_hits, parse_rays, trace_rays};
+use crate::scene::{apply_overrides, default_scene, load_scene, LoadedScene, DEFAULT_SCENE_NAME};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use gridrt_bbox::{Aabb, Real, Vec3};
+use gridrt_grid::{CellStorage, Exhaustive, Grid, GridConfig, GridStats};
+use gridrt_tracer::{
+    AccelKind, Geometry, Light, Projection, RenderOptions, RenderStats, Renderer, Scene, Triangle,
+};
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+/// A ray tracer built on a regular grid (after Suffern's "Ray Tracing from
+/// the Ground Up").
+///
+/// With no subcommand, `gridrt [SCENE] [OPTIONS]` renders like `gridrt render`.
+#[derive(Debug, Parser)]
+#[command(name = "gridrt", version, args_conflicts_with_subcommands = true)]
+pub struct Cli {
+    /// What to do (default: render).
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    /// Render options when no subcommand is given.
+    #[command(flatten)]
+    pub render: RenderArgs,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render a scene (or the built-in default scene) to an image.
+    Render(RenderArgs),
+    /// Print scene and grid statistics without rendering.
+    Info(InfoArgs),
+    /// Answer closest-hit queries for rays read from a CSV file.
+    Rays(RaysArgs),
+}
+
+/// Options of `gridrt render`.
+#[derive(Debug, Clone, Args)]
+pub struct RenderArgs {
+    /// Scene file (.ron) or model (.obj, .gltf, .glb); the built-in default
+    /// scene when absent.
+    #[arg(value_name = "SCENE")]
+    pub scene: Option<PathBuf>,
+    /// Output image: .png (8-bit sRGB) or .exr (linear float).
+    #[arg(short, long, value_name = "FILE", default_value = "out.png")]
+    pub output: PathBuf,
+    /// Samples per pixel (overrides the scene), 1 to 65536.
+    #[arg(long, value_name = "N")]
+    pub spp: Option<u32>,
+    /// Worker threads (default: all cores).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// Image width in pixels (overrides the scene; alone, the height keeps
+    /// the aspect ratio).
+    #[arg(long, value_name = "W")]
+    pub width: Option<u32>,
+    /// Image height in pixels (overrides the scene; alone, the width keeps
+    /// the aspect ratio).
+    #[arg(long, value_name = "H")]
+    pub height: Option<u32>,
+    /// Also write the statistics as JSON to this file.
+    #[arg(long, value_name = "FILE.json")]
+    pub stats: Option<PathBuf>,
+    /// Print only errors and warnings, no summary.
+    #[arg(short, long)]
+    pub quiet: bool,
+    /// Accelerator options.
+    #[command(flatten)]
+    pub accel: AccelArgs,
+}
+
+/// Options of `gridrt info`.
+#[derive(Debug, Clone, Args)]
+pub struct InfoArgs {
+    /// Scene file (.ron) or model (.obj, .gltf, .glb); the built-in default
+    /// scene when absent.
+    #[arg(value_name = "SCENE")]
+    pub scene: Option<PathBuf>,
+    /// Accelerator options.
+    #[command(flatten)]
+    pub accel: AccelArgs,
+}
+
+/// Options of `gridrt rays`.
+#[derive(Debug, Clone, Args)]
+pub struct RaysArgs {
+    /// The mesh (.obj, .gltf, .glb); triangle indices follow its order.
+    #[arg(value_name = "MESH")]
+    pub mesh: PathBuf,
+    /// Rays, one `ox,oy,oz,dx,dy,dz[,tmin,tmax]` per line.
+    #[arg(value_name = "RAYS.csv")]
+    pub rays: PathBuf,
+    /// Write the answers to this file instead of standard output.
+    #[arg(short, long, value_name = "OUT.csv")]
+    pub output: Option<PathBuf>,
+    /// Accelerator options.
+    #[command(flatten)]
+    pub accel: AccelArgs,
+}
+
+/// Accelerator choice, shared by the commands.
+#[derive(Debug, Clone, Copy, Args)]
+pub struct AccelArgs {
+    /// The accelerator.
+    #[arg(long, value_enum, default_value_t = Accel::Grid)]
+    pub accel: Accel,
+    /// The grid multiplier m (about m³ cells per primitive), in (0, 1000];
+    /// default: the grid crate's tuned value.
+    #[arg(long = "grid-m", value_name = "M", value_parser = parse_grid_m)]
+    pub grid_m: Option<f64>,
+}
+
+/// `--accel` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Accel {
+    /// Regular grid, sparse Morton-keyed cells.
+    Grid,
+    /// Regular grid, dense cell table.
+    DenseGrid,
+    /// Test every primitive (the baseline).
+    Exhaustive,
+}
+
+impl Accel {
+    fn kind(self) -> AccelKind {
+        match self {
+            Self::Grid => AccelKind::Grid,
+            Self::DenseGrid => AccelKind::DenseGrid,
+            Self::Exhaustive => AccelKind::Exhaustive,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Self::Grid => "grid",
+            Self::DenseGrid => "dense-grid",
+            Self::Exhaustive => "exhaustive",
+        }
+    }
+}
+
+fn parse_grid_m(s: &str) -> std::result::Result<f64, String> {
+    let m: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
+    if m.is_finite() && m > 0.0 && m <= 1000.0 {
+        Ok(m)
+    } else {
+        Err(format!("{m} is out of range: use a number in (0, 1000]"))
+    }
+}
+
+impl AccelArgs {
+    fn grid_config(&self) -> GridConfig {
+        let mut g = GridConfig::default();
+        if let Some(m) = self.grid_m {
+            g.m = m as Real;
+        }
+        g.storage = match self.accel {
+            Accel::DenseGrid => CellStorage::Dense,
+            _ => CellStorage::Hashed,
+        };
+        g
+    }
+
+    fn options(&self, threads: Option<u32>) -> RenderOptions {
+        RenderOptions {
+            accel: self.accel.kind(),
+            grid: self.grid_config(),
+            threads: threads.map(|t| t as usize),
+        }
+    }
+}
+
+/// Runs a parsed command line. Output goes to `out` (the summary, `rays`
+/// answers without `-o`), warnings to standard error.
+///
+/// # Errors
+/// Any [`Error`]; the binary prints it as `error: …` and exits with 1.
+pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
+    match cli.command {
+        None => render(&cli.render, out),
+        Some(Command::Render(a)) => render(&a, out),
+        Some(Command::Info(a)) => info(&a, out),
+        Some(Command::Rays(a)) => rays(&a, out),
+    }
+}
+
+/// Loads the scene argument, or the built-in scene.
+fn load(scene: Option<&Path>) -> Result<LoadedScene> {
+    match scene {
+        Some(p) => load_scene(p),
+        None => default_scene(),
+    }
+}
+
+fn warn(warnings: &[String]) {
+    let mut e = std::io::stderr().lock();
+    for w in warnings {
+        let _ = writeln!(e, "warning: {w}");
+    }
+}
+
+/// Writing to the summary stream failed (a closed pipe): not worth an error.
+fn put(out: &mut dyn Write, text: &str) {
+    let _ = out.write_all(text.as_bytes());
+}
+
+fn render(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
+    // Everything that can be checked before rendering is checked first.
+    check_image_path(&a.output)?;
+    if let Some(s) = &a.stats {
+        check_output_dir(s)?;
+    }
+    let mut loaded = load(a.scene.as_deref())?;
+    warn(&loaded.warnings);
+    apply_overrides(&mut loaded.scene.settings, a.width, a.height, a.spp)?;
+    let options = a.accel.options(a.threads);
+    let renderer = Renderer::new(&loaded.scene, &options).map_err(|e| Error::Render {
+        path: loaded.source.clone(),
+        msg: e.to_string(),
+    })?;
+
+    let bar = progress_bar();
+    let progress = |done: u64, total: u64| {
+        if let Some(b) = &bar {
+            b.set_length(total);
+            b.set_position(done);
+        }
+    };
+    let cancel = AtomicBool::new(false);
+    let result = renderer.render(&progress, &cancel);
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let (image, stats) = result.map_err(|_| Error::Cancelled)?;
+    crate::write_framebuffer(&a.output, &image)?;
+
+    let report = Report {
+        loaded: &loaded,
+        accel: a.accel,
+        threads: a.threads,
+        primitives: renderer.primitive_count(),
+        stats: &stats,
+        output: &a.output,
+    };
+    if let Some(p) = &a.stats {
+        let json = serde_json::to_string_pretty(&report.json())
+            .map_err(|e| Error::output(p, format!("cannot encode statistics: {e}")))?;
+        write_atomic(p, |f| {
+            f.write_all(json.as_bytes())?;
+            f.write_all(b"\n")
+        })?;
+    }
+    if a.quiet {
+        return Ok(());
+    }
+    put(out, &report.text());
+    Ok(())
+}
+
+/// A progress bar on standard error when it is a terminal, else nothing.
+fn progress_bar() -> Option<indicatif::ProgressBar> {
+    if !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let bar = indicatif::ProgressBar::new(0);
+    if let Ok(style) = indicatif::ProgressStyle::with_template(
+        "rendering [{bar:40.cyan/blue}] {percent:>3}%  {elapsed_precise} (eta {eta})",
+    ) {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    Some(bar)
+}
+
+/// What a render reports: the text summary and the JSON statistics.
+struct Report<'a> {
+    loaded: &'a LoadedScene,
+    accel: AccelArgs,
+    threads: Option<u32>,
+    primitives: usize,
+    stats: &'a RenderStats,
+    output: &'a Path,
+}
+
+/// The JSON statistics (`--stats`).
+#[derive(serde::Serialize)]
+struct StatsJson<'a> {
+    scene: String,
+    output: String,
+    width: u32,
+    height: u32,
+    spp: u32,
+    accel: &'static str,
+    grid_m: f64,
+    threads: Option<u32>,
+    objects: usize,
+    triangles: usize,
+    primitives: usize,
+    rays_total: u64,
+    mrays_per_sec: f64,
+    /// `plan`, `build_time`, `render_time` (seconds), `rays`, `pixels_hit`, `grid`.
+    #[serde(flatten)]
+    stats: &'a RenderStats,
+    grid_occupancy: Option<f64>,
+}
+
+impl Report<'_> {
+    fn json(&self) -> StatsJson<'_> {
+        let s = &self.loaded.scene;
+        StatsJson {
+            scene: self.loaded.source.display().to_string(),
+            output: self.output.display().to_string(),
+            width: s.settings.width,
+            height: s.settings.height,
+            spp: s.settings.spp,
+            accel: self.accel.accel.name(),
+            grid_m: crate::model::r64(self.accel.grid_config().m),
+            threads: self.threads,
+            objects: s.objects.len(),
+            triangles: triangle_count(s),
+            primitives: self.primitives,
+            rays_total: self.stats.rays.total(),
+            mrays_per_sec: self.stats.mrays_per_sec(),
+            stats: self.stats,
+            grid_occupancy: self.stats.grid.as_ref().map(occupancy),
+        }
+    }
+
+    fn text(&self) -> String {
+        let s = &self.loaded.scene;
+        let st = self.stats;
+        let mut t = String::new();
+        t += &format!(
+            "scene       {} ({})\n",
+            self.loaded.source.display(),
+            scene_counts(s)
+        );
+        t += &format!(
+            "image       {}×{}, {} spp\n",
+            s.settings.width, s.settings.height, s.settings.spp
+        );
+        t += &format!("{}\n", st.plan);
+        t += &format!(
+            "accel       {} ({} primitives)\n",
+            accel_label(&self.accel),
+            self.primitives
+        );
+        if let Some(g) = &st.grid {
+            t += &grid_line(g);
+        }
+        t += &format!("build       {:.3} s\n", st.build_time.as_secs_f64());
+        t += &format!("render      {:.3} s\n", st.render_time.as_secs_f64());
+        t += &format!("rays        {}\n", st.rays);
+        t += &format!("speed       {:.2} Mrays/s\n", st.mrays_per_sec());
+        t += &format!("wrote       {}\n", self.output.display());
+        t
+    }
+}
+
+fn accel_label(a: &AccelArgs) -> String {
+    match a.accel {
+        Accel::Exhaustive => "exhaustive".to_string(),
+        other => format!("{} (m = {})", other.name(), a.grid_config().m),
+    }
+}
+
+fn occupancy(g: &GridStats) -> f64 {
+    if g.cells == 0 {
+        0.0
+    } else {
+        g.occupied_cells as f64 / g.cells as f64
+    }
+}
+
+fn grid_line(g: &GridStats) -> String {
+    format!(
+        "grid        {}×{}×{} = {} cells, {} occupied ({:.1}%), {} refs ({:.2} per occupied cell, max {}), {:.2} MiB\n",
+        g.dims[0],
+        g.dims[1],
+        g.dims[2],
+        g.cells,
+        g.occupied_cells,
+        100.0 * occupancy(g),
+        g.references,
+        g.mean_refs_per_occupied,
+        g.max_refs_per_cell,
+        g.bytes as f64 / (1024.0 * 1024.0)
+    )
+}
+
+fn triangle_count(s: &Scene) -> usize {
+    s.objects
+        .iter()
+        .map(|o| match &o.geometry {
+            Geometry::Mesh(m) => m.triangles.len(),
+            _ => 0,
+        })
+        .sum()
+}
+
+/// "12 objects: 3 spheres, 1 box, 1 plane, 7 meshes (1234 triangles)".
+fn scene_counts(s: &Scene) -> String {
+    let (mut sp, mut bx, mut pl, mut me) = (0, 0, 0, 0);
+    for o in &s.objects {
+        match o.geometry {
+            Geometry::Sphere { .. } => sp += 1,
+            Geometry::Cuboid { .. } => bx += 1,
+            Geometry::Plane { .. } => pl += 1,
+            Geometry::Mesh(_) => me += 1,
+        }
+    }
+    let plural = |n: usize, w: &str| format!("{n} {w}{}", if n == 1 { "" } else { "s" });
+    let mut parts = Vec::new();
+    for (n, w) in [(sp, "sphere"), (bx, "box"), (pl, "plane"), (me, "mesh")] {
+        if n > 0 {
+            let word = plural(n, w);
+            parts.push(if w == "box" || w == "mesh" {
+                word.replace("boxs", "boxes").replace("meshs", "meshes")
+            } else {
+                word
+            });
+        }
+    }
+    let mut t = format!(
+        "{}: {}",
+        plural(s.objects.len(), "object"),
+        parts.join(", ")
+    );
+    if me > 0 {
+        t += &format!(" ({} triangles)", triangle_count(s));
+    }
+    t
+}
+
+fn v(p: Vec3) -> String {
+    format!("({}, {}, {})", p.x, p.y, p.z)
+}
+
+fn info(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
+    let loaded = load(a.scene.as_deref())?;
+    warn(&loaded.warnings);
+    let s = &loaded.scene;
+    let mut t = String::new();
+    t += &format!(
+        "scene       {}\n",
+        a.scene.as_deref().map_or_else(
+            || DEFAULT_SCENE_NAME.to_string(),
+            |p| p.display().to_string()
+        )
+    );
+    t += &format!(
+        "image       {}×{}, {} spp, max depth {}\n",
+        s.settings.width, s.settings.height, s.settings.spp, s.settings.max_depth
+    );
+    let proj = match s.camera.projection {
+        Projection::Perspective { vfov_deg } => format!("perspective, vertical fov {vfov_deg}°"),
+        Projection::ViewPlane {
+            distance,
+            pixel_size,
+        } => format!("view plane at {distance}, pixel size {pixel_size}"),
+        Projection::Orthographic { height } => format!("orthographic, height {height}"),
+    };
+    t += &format!(
+        "camera      eye {}, look at {}, {proj}{}\n",
+        v(s.camera.eye),
+        v(s.camera.look_at),
+        if loaded.framed_camera {
+            " (placed to frame the scene)"
+        } else {
+            ""
+        }
+    );
+    t += &format!("objects     {}\n", scene_counts(s));
+    let bounds = s
+        .objects
+        .iter()
+        .fold(Aabb::EMPTY, |b, o| match &o.geometry {
+            Geometry::Sphere { center, radius } => b
+                .grow(*center - Vec3::splat(*radius))
+                .grow(*center + Vec3::splat(*radius)),
+            Geometry::Cuboid { min, max } => b.grow(*min).grow(*max),
+            Geometry::Plane { .. } => b,
+            Geometry::Mesh(m) => m.positions.iter().fold(b, |b, p| b.grow(*p)),
+        });
+    if !bounds.is_empty() {
+        t += &format!(
+            "bounds      {} to {} (planes excluded)\n",
+            v(bounds.min),
+            v(bounds.max)
+        );
+    }
+    t += &format!("materials   {}\n", s.materials.len());
+    let (mut amb, mut pt, mut dir) = (0, 0, 0);
+    for l in &s.lights {
+        match l {
+            Light::Ambient { .. } => amb += 1,
+            Light::Point { .. } => pt += 1,
+            Light::Directional { .. } => dir += 1,
+        }
+    }
+    t += &format!("lights      {amb} ambient, {pt} point, {dir} directional\n");
+    let renderer = Renderer::new(s, &a.accel.options(None)).map_err(|e| Error::Render {
+        path: loaded.source.clone(),
+        msg: e.to_string(),
+    })?;
+    t += &format!("{}\n", renderer.plan());
+    t += &format!(
+        "accel       {} ({} primitives)\n",
+        accel_label(&a.accel),
+        renderer.primitive_count()
+    );
+    if let Some(g) = renderer.grid_stats() {
+        t += &grid_line(g);
+    }
+    t += &format!("build       {:.3} s\n", renderer.build_time().as_secs_f64());
+    put(out, &t);
+    Ok(())
+}
+
+fn rays(a: &RaysArgs, out: &mut dyn Write) -> Result<()> {
+    if let Some(o) = &a.output {
+        check_output_dir(o)?;
+    }
+    let model = load_model(&a.mesh)?;
+    warn(&model.warnings);
+    let bytes = std::fs::read(&a.rays).map_err(|e| Error::read(&a.rays, e))?;
+    let queries = parse_rays(&String::from_utf8_lossy(&bytes), &a.rays)?;
+    let tris: Vec<Triangle> = model
+        .triangles()
+        .map(|[p0, p1, p2]| Triangle::new(p0, p1, p2))
+        .collect();
+    let n_tris = tris.len();
+    let start = Instant::now();
+    let hits = match a.accel.accel {
+        Accel::Exhaustive => trace_rays(&Exhaustive::new(tris), &queries),
+        Accel::Grid | Accel::DenseGrid => {
+            trace_rays(&Grid::build(tris, &a.accel.grid_config()), &queries)
+        }
+    };
+    let elapsed = start.elapsed();
+    let text = format_hits(&hits);
+    match &a.output {
+        Some(p) => write_atomic(p, |f| f.write_all(text.as_bytes()))?,
+        None => out
+            .write_all(text.as_bytes())
+            .and_then(|()| out.flush())
+            .map_err(|e| Error::Write {
+                path: PathBuf::from("<standard output>"),
+                source: e,
+            })?,
+    }
+    if std::io::stderr().is_terminal() {
+        let n_hit = hits.iter().filter(|h| h.is_some()).count();
+        eprintln!(
+            "{} rays, {n_hit} hits, {n_tris} triangles, {}: {:.3} s (build and trace)",
+            queries.len(),
+            accel_label(&a.accel),
+            elapsed.as_secs_f64()
+        );
+    }
+    Ok(())
+}

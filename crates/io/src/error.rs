@@ -1,0 +1,293 @@
+//! The one error type of gridrt-io.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// Everything that can go wrong reading scenes, meshes and ray files, or
+/// writing images and reports.
+///
+/// Every message names the file and, where there is one, the place in it
+/// (RON `line:column`, OBJ line, glTF node and primitive, CSV line) and says
+/// what to fix. The `gridrt` binary prints it as one line `error: …`.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A file could not be opened or read: it does not exist, is not
+    /// readable, or is a directory. Fix the path; paths inside a scene file
+    /// are relative to the scene file's directory.
+    #[error("{}: cannot read the file: {}", .path.display(), io_message(.source))]
+    Read {
+        /// The file, as it was resolved.
+        path: PathBuf,
+        /// What the operating system said.
+        #[source]
+        source: std::io::Error,
+    },
+
+    /// A RON scene file is not well formed or does not follow the scene
+    /// schema (syntax error, unknown or missing field, wrong type, a value
+    /// out of range). See `docs/scene-format.md`.
+    #[error("{}:{line}:{col}: {msg}", .path.display())]
+    Ron {
+        /// The scene file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        col: usize,
+        /// What is wrong and what to write instead.
+        msg: String,
+    },
+
+    /// A scene is well formed but its content is invalid: a reference to an
+    /// undefined material, a degenerate camera, a mesh override naming a
+    /// material the mesh does not have, an empty scene.
+    #[error("{}{}: {msg}", .path.display(), Place(.place))]
+    Scene {
+        /// The scene file.
+        path: PathBuf,
+        /// Where: `line:col` when it could be found, then the element
+        /// (`objects[2]`, `camera`), or empty.
+        place: String,
+        /// What is wrong and how to fix it.
+        msg: String,
+    },
+
+    /// A mesh file named by a scene could not be loaded; the inner error
+    /// names the mesh file and the place in it, this one the scene and the
+    /// object that refers to it.
+    #[error("{}{}: {source}", .scene.display(), Place(.place))]
+    Mesh {
+        /// The scene file.
+        scene: PathBuf,
+        /// Where in the scene (`line:col: objects[3]`).
+        place: String,
+        /// Why the mesh could not be loaded.
+        #[source]
+        source: Box<Error>,
+    },
+
+    /// An OBJ or MTL file is malformed: an unparsable or non-finite number,
+    /// a face index out of range, an empty mesh.
+    #[error("{}{}: {msg}", .path.display(), Line(*.line))]
+    Obj {
+        /// The OBJ file.
+        path: PathBuf,
+        /// 1-based line, when known.
+        line: Option<usize>,
+        /// What is wrong and how to fix it.
+        msg: String,
+    },
+
+    /// A glTF file is malformed or uses something gridrt does not support:
+    /// invalid JSON, a missing or short buffer, an accessor out of bounds,
+    /// non-finite positions, no meshes.
+    #[error("{}{}: {msg}", .path.display(), Place(.place))]
+    Gltf {
+        /// The `.gltf` or `.glb` file.
+        path: PathBuf,
+        /// Where: `node 3 "wheel", mesh 1, primitive 0`, `buffer 0`, or empty.
+        place: String,
+        /// What is wrong and how to fix it.
+        msg: String,
+    },
+
+    /// A line of a rays CSV file is not `ox,oy,oz,dx,dy,dz[,tmin,tmax]`.
+    #[error("{}:{line}: {msg}", .path.display())]
+    Rays {
+        /// The CSV file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// What is wrong and how to fix it.
+        msg: String,
+    },
+
+    /// An input file whose type gridrt does not know (by extension).
+    #[error(
+        "{}: unsupported file type{}: use a .ron scene, or an .obj, .gltf or .glb model",
+        .path.display(), ext_note(.path)
+    )]
+    UnsupportedInput {
+        /// The file.
+        path: PathBuf,
+    },
+
+    /// An output path that cannot be used: unknown extension, a directory
+    /// that does not exist. Checked before rendering.
+    #[error("{}: {msg}", .path.display())]
+    Output {
+        /// The output path as given.
+        path: PathBuf,
+        /// What is wrong and how to fix it.
+        msg: String,
+    },
+
+    /// Writing an output file failed (disk full, no permission). The target
+    /// is left as it was: output goes to a temporary file that is renamed
+    /// into place only once complete.
+    #[error("{}: cannot write: {}", .path.display(), io_message(.source))]
+    Write {
+        /// The output path.
+        path: PathBuf,
+        /// What the operating system said.
+        #[source]
+        source: std::io::Error,
+    },
+
+    /// A command-line value is out of range (`--spp 0`, `--width 100000`).
+    #[error("{arg}: {msg}")]
+    Arg {
+        /// The option, e.g. `--spp`.
+        arg: String,
+        /// What is wrong and what is allowed.
+        msg: String,
+    },
+
+    /// The renderer rejected the scene (the tracer's own validation).
+    #[error("{}: {msg}", .path.display())]
+    Render {
+        /// The scene file.
+        path: PathBuf,
+        /// The renderer's message.
+        msg: String,
+    },
+
+    /// The render was cancelled before it finished; nothing was written.
+    #[error("interrupted: the render was cancelled and no output was written")]
+    Cancelled,
+}
+
+/// `Result` with [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+impl Error {
+    /// A [`Error::Read`] for `path`.
+    pub(crate) fn read(path: &Path, source: std::io::Error) -> Self {
+        Self::Read {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+
+    /// A [`Error::Scene`] with a place.
+    pub(crate) fn scene(path: &Path, place: impl Into<String>, msg: impl Into<String>) -> Self {
+        Self::Scene {
+            path: path.to_path_buf(),
+            place: place.into(),
+            msg: msg.into(),
+        }
+    }
+
+    /// A [`Error::Obj`].
+    pub(crate) fn obj(path: &Path, line: Option<usize>, msg: impl Into<String>) -> Self {
+        Self::Obj {
+            path: path.to_path_buf(),
+            line,
+            msg: msg.into(),
+        }
+    }
+
+    /// A [`Error::Gltf`].
+    pub(crate) fn gltf(path: &Path, place: impl Into<String>, msg: impl Into<String>) -> Self {
+        Self::Gltf {
+            path: path.to_path_buf(),
+            place: place.into(),
+            msg: msg.into(),
+        }
+    }
+
+    /// A [`Error::Output`].
+    pub(crate) fn output(path: &Path, msg: impl Into<String>) -> Self {
+        Self::Output {
+            path: path.to_path_buf(),
+            msg: msg.into(),
+        }
+    }
+
+    /// A [`Error::Arg`].
+    pub(crate) fn arg(arg: &str, msg: impl Into<String>) -> Self {
+        Self::Arg {
+            arg: arg.to_string(),
+            msg: msg.into(),
+        }
+    }
+}
+
+/// An I/O error as a short sentence, with a hint for the common cases.
+fn io_message(e: &std::io::Error) -> String {
+    use std::io::ErrorKind;
+    let hint = match e.kind() {
+        ErrorKind::NotFound => " (check the path; paths in a scene are relative to the scene file)",
+        ErrorKind::PermissionDenied => " (check the file's permissions)",
+        _ => "",
+    };
+    format!("{e}{hint}")
+}
+
+/// The extension of `path`, quoted, for the unsupported-file message.
+fn ext_note(path: &Path) -> String {
+    match path.extension() {
+        Some(e) => format!(" \".{}\"", e.to_string_lossy()),
+        None => " (no extension)".to_string(),
+    }
+}
+
+/// Formats a place after a path: `:12:5: objects[2]` stays glued to the
+/// path, a named place gets `: ` first, and an empty place disappears.
+struct Place<'a>(&'a String);
+
+impl fmt::Display for Place<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let p = self.0.as_str();
+        if p.is_empty() {
+            Ok(())
+        } else if p.starts_with(|c: char| c.is_ascii_digit()) {
+            write!(f, ":{p}")
+        } else {
+            write!(f, ": {p}")
+        }
+    }
+}
+
+/// Formats an optional line number after a path.
+struct Line(Option<usize>);
+
+impl fmt::Display for Line {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.0 {
+            Some(l) => write!(f, ":{l}"),
+            None => Ok(()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn places_join_the_path() {
+        let p = Path::new("a.ron");
+        assert_eq!(
+            Error::scene(p, "3:4: objects[1]", "bad").to_string(),
+            "a.ron:3:4: objects[1]: bad"
+        );
+        assert_eq!(
+            Error::scene(p, "camera", "bad").to_string(),
+            "a.ron: camera: bad"
+        );
+        assert_eq!(Error::scene(p, "", "bad").to_string(), "a.ron: bad");
+        assert_eq!(Error::obj(p, Some(7), "bad").to_string(), "a.ron:7: bad");
+        assert_eq!(Error::obj(p, None, "bad").to_string(), "a.ron: bad");
+    }
+
+    #[test]
+    fn not_found_says_what_to_check() {
+        let e = Error::read(
+            Path::new("x.obj"),
+            std::io::Error::from(std::io::ErrorKind::NotFound),
+        );
+        assert!(e.to_string().contains("check the path"), "{e}");
+    }
+}

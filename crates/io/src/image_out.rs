@@ -1,0 +1,288 @@
+//! Writing images (PNG, EXR) and other outputs atomically.
+
+use crate::error::{Error, Result};
+use gridrt_tracer::Rgb;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+/// Image formats gridrt writes, chosen by the output file's extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    /// `.png`: 8-bit RGB, sRGB-encoded (the IEC 61966-2-1 transfer
+    /// function, not a 2.2 gamma), values clamped to [0, 1].
+    Png,
+    /// `.exr`: OpenEXR, linear RGB 32-bit float, values as rendered.
+    Exr,
+}
+
+impl ImageFormat {
+    /// The format for an output path, by extension (case-insensitive).
+    ///
+    /// # Errors
+    /// [`Error::Output`] for another or no extension.
+    pub fn from_path(path: &Path) -> Result<Self> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("png") => Ok(Self::Png),
+            Some("exr") => Ok(Self::Exr),
+            Some(e) => Err(Error::output(
+                path,
+                format!(
+                    "unknown image format \".{e}\": use .png (8-bit sRGB) or .exr (linear float)"
+                ),
+            )),
+            None => Err(Error::output(
+                path,
+                "no file extension: use .png (8-bit sRGB) or .exr (linear float)",
+            )),
+        }
+    }
+}
+
+/// Checks, before any work, that `path` can become an output file: its
+/// directory exists and it is not itself a directory.
+///
+/// # Errors
+/// [`Error::Output`] saying what to fix.
+pub fn check_output_dir(path: &Path) -> Result<()> {
+    if path.as_os_str().is_empty() {
+        return Err(Error::output(path, "empty output path"));
+    }
+    if path.is_dir() {
+        return Err(Error::output(path, "is a directory: give a file name"));
+    }
+    let dir = parent_dir(path);
+    if !dir.is_dir() {
+        return Err(Error::output(
+            path,
+            format!(
+                "the directory {} does not exist: create it first or choose another path",
+                dir.display()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Checks an image output path: extension and directory.
+///
+/// # Errors
+/// [`Error::Output`] for an unknown extension or a missing directory.
+pub fn check_image_path(path: &Path) -> Result<ImageFormat> {
+    let format = ImageFormat::from_path(path)?;
+    check_output_dir(path)?;
+    Ok(format)
+}
+
+/// The directory a file goes in (`.` for a bare file name).
+fn parent_dir(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
+}
+
+/// Linear to sRGB, the exact piecewise transfer function (IEC 61966-2-1),
+/// clamped to [0, 1]; NaN gives 0.
+///
+/// ```
+/// use gridrt_io::linear_to_srgb;
+/// assert_eq!(linear_to_srgb(0.0), 0.0);
+/// assert_eq!(linear_to_srgb(1.0), 1.0);
+/// assert!((linear_to_srgb(0.5) - 0.7354).abs() < 1e-4); // not 0.5^(1/2.2) = 0.7297
+/// assert_eq!(linear_to_srgb(f32::NAN), 0.0);
+/// ```
+#[must_use]
+pub fn linear_to_srgb(x: f32) -> f32 {
+    if x.is_nan() || x <= 0.0 {
+        0.0
+    } else if x >= 1.0 {
+        1.0
+    } else if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Linear to an 8-bit sRGB code value (rounded).
+#[inline]
+fn srgb8(x: f32) -> u8 {
+    (linear_to_srgb(x) * 255.0 + 0.5) as u8
+}
+
+/// Writes linear-RGB pixels (row-major, row 0 at the top) as PNG or EXR,
+/// by the path's extension, atomically (see [`write_atomic`]).
+///
+/// # Errors
+/// [`Error::Output`] for a bad path, [`Error::Write`] when writing fails
+/// (the file is then left as it was).
+///
+/// # Panics
+/// If `pixels.len() != width · height` (a caller bug, not bad input).
+pub fn write_image(path: &Path, width: u32, height: u32, pixels: &[Rgb]) -> Result<()> {
+    assert_eq!(
+        pixels.len() as u64,
+        u64::from(width) * u64::from(height),
+        "pixel count must be width × height"
+    );
+    let format = check_image_path(path)?;
+    write_atomic(path, |file| {
+        let mut w = BufWriter::new(file);
+        match format {
+            ImageFormat::Png => {
+                let bytes: Vec<u8> = pixels
+                    .iter()
+                    .flat_map(|p| [srgb8(p.x), srgb8(p.y), srgb8(p.z)])
+                    .collect();
+                let enc = image::codecs::png::PngEncoder::new(&mut w);
+                image::ImageEncoder::write_image(
+                    enc,
+                    &bytes,
+                    width,
+                    height,
+                    image::ExtendedColorType::Rgb8,
+                )
+                .map_err(std::io::Error::other)?;
+            }
+            ImageFormat::Exr => {
+                let clean = |x: f32| if x.is_finite() { x } else { 0.0 };
+                let bytes: Vec<u8> = pixels
+                    .iter()
+                    .flat_map(|p| [clean(p.x), clean(p.y), clean(p.z)])
+                    .flat_map(f32::to_ne_bytes)
+                    .collect();
+                let enc = image::codecs::openexr::OpenExrEncoder::new(&mut w);
+                image::ImageEncoder::write_image(
+                    enc,
+                    &bytes,
+                    width,
+                    height,
+                    image::ExtendedColorType::Rgb32F,
+                )
+                .map_err(std::io::Error::other)?;
+            }
+        }
+        w.flush()
+    })
+}
+
+/// Writes a file atomically: the content goes to a temporary file in the
+/// same directory, which is renamed over `path` only once it is complete
+/// and synced. A failure or an interruption never leaves a half-written
+/// `path` and never replaces a good one.
+///
+/// # Errors
+/// [`Error::Write`] naming `path`.
+pub fn write_atomic(
+    path: &Path,
+    write: impl FnOnce(&mut File) -> std::io::Result<()>,
+) -> Result<()> {
+    let werr = |source| Error::Write {
+        path: path.to_path_buf(),
+        source,
+    };
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".gridrt-")
+        .suffix(".tmp")
+        .tempfile_in(parent_dir(path))
+        .map_err(werr)?;
+    write(tmp.as_file_mut()).map_err(werr)?;
+    tmp.as_file().sync_all().map_err(werr)?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        // tempfile creates 0600; an output file should be readable like any other.
+        tmp.as_file()
+            .set_permissions(std::fs::Permissions::from_mode(0o644))
+            .map_err(werr)?;
+    }
+    tmp.persist(path).map_err(|e| werr(e.error))?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_curve_is_continuous_and_monotonic() {
+        let knee = 0.003_130_8_f32;
+        let below = 12.92 * knee;
+        let above = 1.055 * knee.powf(1.0 / 2.4) - 0.055;
+        assert!((below - above).abs() < 1e-6);
+        let mut last = 0.0;
+        for i in 0..=1000 {
+            let s = linear_to_srgb(i as f32 / 1000.0);
+            assert!(s >= last);
+            last = s;
+        }
+        assert_eq!(srgb8(0.5), 188);
+        assert_eq!(srgb8(2.0), 255);
+        assert_eq!(srgb8(-1.0), 0);
+    }
+
+    #[test]
+    fn formats_by_extension() {
+        assert_eq!(
+            ImageFormat::from_path(Path::new("a.PNG")).unwrap(),
+            ImageFormat::Png
+        );
+        assert_eq!(
+            ImageFormat::from_path(Path::new("a.exr")).unwrap(),
+            ImageFormat::Exr
+        );
+        let e = ImageFormat::from_path(Path::new("a.jpg"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("unknown image format \".jpg\""), "{e}");
+        assert!(ImageFormat::from_path(Path::new("a")).is_err());
+    }
+
+    #[test]
+    fn png_and_exr_round_trip() {
+        let dir = tempfile::tempdir().unwrap();
+        let px = vec![Rgb::new(0.0, 0.5, 1.0), Rgb::new(2.0, 0.25, f32::NAN)];
+        let png = dir.path().join("a.png");
+        write_image(&png, 2, 1, &px).unwrap();
+        let img = image::open(&png).unwrap().to_rgb8();
+        assert_eq!(img.get_pixel(0, 0).0, [0, 188, 255]);
+        assert_eq!(img.get_pixel(1, 0).0, [255, 137, 0]);
+        let exr = dir.path().join("a.exr");
+        write_image(&exr, 2, 1, &px).unwrap();
+        let img = image::open(&exr).unwrap().to_rgb32f();
+        assert_eq!(img.get_pixel(1, 0).0, [2.0, 0.25, 0.0]);
+        // No temporary file is left behind.
+        let names: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names.len(), 2, "{names:?}");
+    }
+
+    #[test]
+    fn a_failed_write_keeps_the_old_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("keep.txt");
+        std::fs::write(&p, "good").unwrap();
+        let r = write_atomic(&p, |f| {
+            f.write_all(b"half")?;
+            Err(std::io::Error::other("disk on fire"))
+        });
+        assert!(r.is_err());
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "good");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn missing_directories_are_reported_before_writing() {
+        let e = check_image_path(Path::new("/nonexistent-gridrt-dir/x.png"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("does not exist"), "{e}");
+    }
+}

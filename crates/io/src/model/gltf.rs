@@ -1,0 +1,799 @@
+//! glTF 2.0 (`.gltf` with external or embedded buffers, and `.glb`) through
+//! the gltf crate.
+//!
+//! The JSON is validated by gltf (except the `min`/`max` of positions, which
+//! we do not need), then buffers are read here rather than by
+//! `gltf::import`: images are never decoded (gridrt has no textures), and
+//! every accessor is bounds-checked before it is read, so a truncated or
+//! inconsistent file is an error that names the node and primitive instead
+//! of a panic. Cyclic node graphs are rejected.
+
+use super::base64;
+use super::{check_normals, to_vec3, ModelCamera, ModelMesh, NamedMaterial, Xform};
+use crate::error::{Error, Result};
+use crate::model::Model;
+use glam::{DMat4, DQuat, DVec3};
+use gltf::accessor::{DataType, Dimensions};
+use gltf::mesh::Mode;
+use gltf::Document;
+use gridrt_bbox::{Real, Vec3};
+use gridrt_tracer::{Camera, Light, Material, Mesh, Projection, Rgb};
+use std::path::Path;
+
+/// The warning for a spot light turned into a point light (scenes that do
+/// not use the file's lights drop it).
+pub(crate) const SPOT_WARNING: &str = "a spot light is rendered as a point light (no cone)";
+
+/// Deepest node hierarchy accepted (deeper means a cycle or a broken file).
+const MAX_DEPTH: usize = 256;
+
+/// Reads a `.gltf` or `.glb` file.
+pub(crate) fn load(path: &Path) -> Result<Model> {
+    let bytes = std::fs::read(path).map_err(|e| Error::read(path, e))?;
+    let gltf =
+        gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| parse_error(path, e))?;
+    validate(path, &gltf.document)?;
+    let doc = &gltf.document;
+    let buffers = load_buffers(path, doc, gltf.blob.clone())?;
+
+    let mut warnings = Vec::new();
+    let materials = doc
+        .materials()
+        .map(|m| {
+            let name = m.name().map_or_else(
+                || format!("material {}", m.index().unwrap_or(0)),
+                str::to_string,
+            );
+            NamedMaterial {
+                material: pbr_material(&m, &name, &mut warnings),
+                name,
+            }
+        })
+        .collect();
+    if doc.images().next().is_some() {
+        warnings.push(format!(
+            "{}: textures are ignored; materials use their constant factors",
+            path.display()
+        ));
+    }
+
+    let mut loader = Loader {
+        path,
+        doc,
+        buffers: &buffers,
+        file_name: path
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
+        meshes: Vec::new(),
+        camera: None,
+        lights: Vec::new(),
+        warnings,
+        stack: Vec::new(),
+    };
+    let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
+        Some(scene) => scene.nodes().collect(),
+        None => {
+            // No scene: every node that is nobody's child is a root.
+            let mut is_child = vec![false; doc.nodes().len()];
+            for n in doc.nodes() {
+                for c in n.children() {
+                    is_child[c.index()] = true;
+                }
+            }
+            doc.nodes().filter(|n| !is_child[n.index()]).collect()
+        }
+    };
+    for root in roots {
+        loader.visit(&root, DMat4::IDENTITY)?;
+    }
+    if doc.meshes().len() == 0 {
+        return Err(Error::gltf(
+            path,
+            "",
+            format!(
+                "the file has no meshes ({} nodes, nothing to render): export the geometry as glTF meshes",
+                doc.nodes().len()
+            ),
+        ));
+    }
+    if loader.meshes.is_empty() {
+        return Err(Error::gltf(
+            path,
+            "",
+            "no triangles: no node of the scene has a mesh with a triangle primitive",
+        ));
+    }
+    Ok(Model {
+        path: path.to_path_buf(),
+        meshes: loader.meshes,
+        materials,
+        camera: loader.camera,
+        lights: loader.lights,
+        warnings: loader.warnings,
+    })
+}
+
+/// A gltf parse error as ours: JSON errors carry line and column.
+fn parse_error(path: &Path, e: gltf::Error) -> Error {
+    match e {
+        gltf::Error::Deserialize(j) => Error::gltf(
+            path,
+            format!("{}:{}", j.line(), j.column()),
+            format!("invalid glTF JSON: {j}"),
+        ),
+        gltf::Error::Binary(b) => Error::gltf(
+            path,
+            "",
+            format!("invalid GLB container: {b} (is the file truncated?)"),
+        ),
+        other => Error::gltf(path, "", format!("cannot read glTF: {other}")),
+    }
+}
+
+/// Runs gltf's validation, tolerating missing `min`/`max` on accessors.
+fn validate(path: &Path, doc: &Document) -> Result<()> {
+    use gltf::json::validation::{Error as VErr, Validate};
+    let root = doc.as_json();
+    let mut errors: Vec<String> = Vec::new();
+    root.validate(root, gltf::json::Path::new, &mut |p, e| {
+        let p = p();
+        let s = p.as_str();
+        let min_max = s.ends_with(".min") || s.ends_with(".max");
+        if !(min_max && e == VErr::Missing) {
+            errors.push(format!("{s}: {e}"));
+        }
+    });
+    if errors.is_empty() {
+        Ok(())
+    } else {
+        let n = errors.len();
+        errors.truncate(3);
+        Err(Error::gltf(
+            path,
+            "",
+            format!(
+                "invalid glTF ({n} problem{}): {}",
+                if n == 1 { "" } else { "s" },
+                errors.join("; ")
+            ),
+        ))
+    }
+}
+
+/// Reads every buffer: the GLB binary chunk, a `data:` URI, or a file
+/// relative to the glTF file.
+fn load_buffers(path: &Path, doc: &Document, mut blob: Option<Vec<u8>>) -> Result<Vec<Vec<u8>>> {
+    let dir = path.parent().unwrap_or_else(|| Path::new(""));
+    let mut out = Vec::new();
+    for b in doc.buffers() {
+        let place = match b.source() {
+            gltf::buffer::Source::Uri(u) if !u.starts_with("data:") => {
+                format!("buffer {} (\"{u}\")", b.index())
+            }
+            _ => format!("buffer {}", b.index()),
+        };
+        let data = match b.source() {
+            gltf::buffer::Source::Bin => blob.take().ok_or_else(|| {
+                Error::gltf(
+                    path,
+                    &place,
+                    "refers to the GLB binary chunk, which is missing (is the file truncated?)",
+                )
+            })?,
+            gltf::buffer::Source::Uri(uri) => {
+                if let Some(rest) = uri.strip_prefix("data:") {
+                    let payload = rest.split_once(";base64,").map(|(_, d)| d).ok_or_else(|| {
+                        Error::gltf(path, &place, "only base64 data: URIs are supported")
+                    })?;
+                    base64::decode(payload).map_err(|e| Error::gltf(path, &place, e))?
+                } else if uri.contains("://") {
+                    return Err(Error::gltf(
+                        path,
+                        &place,
+                        format!(
+                            "URI \"{uri}\" is not a relative file: download it beside the .gltf"
+                        ),
+                    ));
+                } else {
+                    let rel =
+                        base64::percent_decode(uri).map_err(|e| Error::gltf(path, &place, e))?;
+                    let file = dir.join(rel);
+                    std::fs::read(&file).map_err(|e| {
+                        Error::gltf(
+                            path,
+                            &place,
+                            format!(
+                                "cannot read {}: {e} (the .bin must sit where the .gltf's URI says)",
+                                file.display()
+                            ),
+                        )
+                    })?
+                }
+            }
+        };
+        if data.len() < b.length() {
+            return Err(Error::gltf(
+                path,
+                &place,
+                format!(
+                    "holds {} bytes but the file declares {} (truncated?)",
+                    data.len(),
+                    b.length()
+                ),
+            ));
+        }
+        out.push(data);
+    }
+    Ok(out)
+}
+
+/// State of the depth-first walk over the node graph.
+struct Loader<'a> {
+    path: &'a Path,
+    doc: &'a Document,
+    buffers: &'a [Vec<u8>],
+    file_name: String,
+    meshes: Vec<ModelMesh>,
+    camera: Option<ModelCamera>,
+    lights: Vec<Light>,
+    warnings: Vec<String>,
+    /// Nodes on the current path, to detect cycles.
+    stack: Vec<usize>,
+}
+
+/// `node 3 "name"`.
+fn node_label(node: &gltf::Node) -> String {
+    match node.name() {
+        Some(n) => format!("node {} \"{n}\"", node.index()),
+        None => format!("node {}", node.index()),
+    }
+}
+
+/// A node's local transform in f64; `None` when it is not finite or the
+/// rotation is not a quaternion.
+fn local_matrix(node: &gltf::Node) -> Option<DMat4> {
+    let m = match node.transform() {
+        gltf::scene::Transform::Matrix { matrix } => {
+            DMat4::from_cols_array_2d(&matrix.map(|c| c.map(f64::from)))
+        }
+        gltf::scene::Transform::Decomposed {
+            translation,
+            rotation,
+            scale,
+        } => {
+            let q = DQuat::from_array(rotation.map(f64::from));
+            let len = q.length();
+            if !(len.is_finite() && len > 1e-12) {
+                return None;
+            }
+            let q = q / len;
+            DMat4::from_scale_rotation_translation(
+                DVec3::from_array(scale.map(f64::from)),
+                q,
+                DVec3::from_array(translation.map(f64::from)),
+            )
+        }
+    };
+    m.is_finite().then_some(m)
+}
+
+impl Loader<'_> {
+    fn visit(&mut self, node: &gltf::Node, parent: DMat4) -> Result<()> {
+        let label = node_label(node);
+        if self.stack.contains(&node.index()) || self.stack.len() >= MAX_DEPTH {
+            return Err(Error::gltf(
+                self.path,
+                label,
+                "the node hierarchy is cyclic or deeper than 256 levels",
+            ));
+        }
+        let local = local_matrix(node).ok_or_else(|| {
+            Error::gltf(
+                self.path,
+                &label,
+                "the node's transform is not finite or its rotation is not a quaternion",
+            )
+        })?;
+        let world = parent * local;
+        self.stack.push(node.index());
+
+        if let Some(mesh) = node.mesh() {
+            for prim in mesh.primitives() {
+                let place = format!(
+                    "{label}, mesh {}{}, primitive {}",
+                    mesh.index(),
+                    mesh.name()
+                        .map_or_else(String::new, |n| format!(" \"{n}\"")),
+                    prim.index()
+                );
+                self.primitive(&prim, &world, &place, &mesh, node)?;
+            }
+        }
+        if let Some(cam) = node.camera() {
+            if self.camera.is_none() {
+                self.camera = camera(&cam, &world);
+            }
+        }
+        self.light(node, &world);
+        for child in node.children() {
+            self.visit(&child, world)?;
+        }
+        self.stack.pop();
+        Ok(())
+    }
+
+    fn primitive(
+        &mut self,
+        prim: &gltf::Primitive,
+        world: &DMat4,
+        place: &str,
+        mesh: &gltf::Mesh,
+        node: &gltf::Node,
+    ) -> Result<()> {
+        let err = |msg: String| Error::gltf(self.path, place, msg);
+        let mode = prim.mode();
+        if !matches!(
+            mode,
+            Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+        ) {
+            self.warnings.push(format!(
+                "{}: {place}: skipped a {mode:?} primitive (only triangles are rendered)",
+                self.path.display()
+            ));
+            return Ok(());
+        }
+        let pos_acc = prim
+            .get(&gltf::Semantic::Positions)
+            .ok_or_else(|| err("the primitive has no POSITION attribute".into()))?;
+        let raw = read_vec3(&pos_acc, self.buffers).map_err(|e| err(format!("POSITION: {e}")))?;
+        if let Some(k) = raw.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+            return Err(err(format!(
+                "vertex {k} has a non-finite position (NaN or infinity): fix the exporter's output"
+            )));
+        }
+        let n = raw.len();
+        let indices: Vec<u32> = match prim.indices() {
+            Some(acc) => {
+                read_indices(&acc, self.buffers).map_err(|e| err(format!("indices: {e}")))?
+            }
+            None => (0..n as u32).collect(),
+        };
+        if let Some(&bad) = indices.iter().find(|&&i| i as usize >= n) {
+            return Err(err(format!(
+                "index {bad} is out of range: the primitive has {n} vertices"
+            )));
+        }
+        let triangles = assemble(&indices, mode);
+        if triangles.is_empty() {
+            self.warnings.push(format!(
+                "{}: {place}: no triangles (too few indices), skipped",
+                self.path.display()
+            ));
+            return Ok(());
+        }
+        let normals = match prim.get(&gltf::Semantic::Normals) {
+            Some(acc) => match read_vec3(&acc, self.buffers) {
+                Ok(v) if v.len() == n => v,
+                _ => {
+                    self.warnings.push(format!(
+                        "{}: {place}: unreadable NORMAL attribute, using flat normals",
+                        self.path.display()
+                    ));
+                    Vec::new()
+                }
+            },
+            None => Vec::new(),
+        };
+        let mut tmesh = Mesh {
+            name: format!(
+                "{}:{}/{}/{}",
+                self.file_name,
+                node.name()
+                    .map_or_else(|| format!("node{}", node.index()), str::to_string),
+                mesh.name()
+                    .map_or_else(|| format!("mesh{}", mesh.index()), str::to_string),
+                prim.index()
+            ),
+            positions: raw
+                .iter()
+                .map(|p| Vec3::new(p[0] as Real, p[1] as Real, p[2] as Real))
+                .collect(),
+            normals: normals
+                .iter()
+                .map(|p| Vec3::new(p[0] as Real, p[1] as Real, p[2] as Real))
+                .collect(),
+            uvs: Vec::new(),
+            triangles,
+        };
+        let xf = Xform::new(world).map_err(|e| err(format!("node transform: {e}")))?;
+        xf.apply(&mut tmesh).map_err(err)?;
+        check_normals(&mut tmesh, &mut self.warnings);
+        self.meshes.push(ModelMesh {
+            mesh: tmesh,
+            material: prim.material().index(),
+            mirrored: xf.mirrors,
+        });
+        Ok(())
+    }
+
+    /// Records a `KHR_lights_punctual` light of the node, if any.
+    fn light(&mut self, node: &gltf::Node, world: &DMat4) {
+        use gltf::json::extensions::scene::khr_lights_punctual::Type;
+        use gltf::json::validation::Checked;
+        let root = self.doc.as_json();
+        let Some(index) = root
+            .nodes
+            .get(node.index())
+            .and_then(|n| n.extensions.as_ref())
+            .and_then(|e| e.khr_lights_punctual.as_ref())
+            .map(|l| l.light.value())
+        else {
+            return;
+        };
+        let Some(l) = root
+            .extensions
+            .as_ref()
+            .and_then(|e| e.khr_lights_punctual.as_ref())
+            .and_then(|k| k.lights.get(index))
+        else {
+            return;
+        };
+        let color = Rgb::from_array(l.color);
+        let intensity = if l.intensity.is_finite() {
+            l.intensity.max(0.0)
+        } else {
+            1.0
+        };
+        let position = to_vec3(world.transform_point3(DVec3::ZERO));
+        // Lights shine along their local −z axis.
+        let dir = world.transform_vector3(DVec3::NEG_Z).try_normalize();
+        match (&l.type_, dir) {
+            (Checked::Valid(Type::Directional), Some(d)) => self.lights.push(Light::Directional {
+                direction: to_vec3(-d),
+                color,
+                intensity,
+                shadows: true,
+            }),
+            (Checked::Valid(kind @ (Type::Point | Type::Spot)), _) => {
+                if matches!(kind, Type::Spot) {
+                    self.warnings.push(format!(
+                        "{}: {}: {SPOT_WARNING}",
+                        self.path.display(),
+                        node_label(node)
+                    ));
+                }
+                self.lights.push(Light::Point {
+                    position,
+                    color,
+                    intensity,
+                    inverse_square: true,
+                    shadows: true,
+                });
+            }
+            _ => self.warnings.push(format!(
+                "{}: {}: light skipped (unknown type or degenerate transform)",
+                self.path.display(),
+                node_label(node)
+            )),
+        }
+    }
+}
+
+/// A node camera in world space: it looks along its local −z with +y up.
+fn camera(cam: &gltf::Camera, world: &DMat4) -> Option<ModelCamera> {
+    let eye = world.transform_point3(DVec3::ZERO);
+    let fwd = world.transform_vector3(DVec3::NEG_Z).try_normalize()?;
+    let up = world.transform_vector3(DVec3::Y).try_normalize()?;
+    let (projection, aspect) = match cam.projection() {
+        gltf::camera::Projection::Perspective(p) => {
+            let vfov = f64::from(p.yfov()).to_degrees();
+            if !(vfov > 0.0 && vfov < 180.0) {
+                return None;
+            }
+            (
+                Projection::Perspective {
+                    vfov_deg: vfov as Real,
+                },
+                p.aspect_ratio().map(f64::from),
+            )
+        }
+        gltf::camera::Projection::Orthographic(o) => {
+            let h = 2.0 * f64::from(o.ymag()).abs();
+            let x = f64::from(o.xmag()).abs();
+            if !(h > 0.0 && h.is_finite()) {
+                return None;
+            }
+            (
+                Projection::Orthographic { height: h as Real },
+                (x > 0.0).then(|| 2.0 * x / h),
+            )
+        }
+    };
+    Some(ModelCamera {
+        camera: Camera {
+            eye: to_vec3(eye),
+            look_at: to_vec3(eye + fwd),
+            up: to_vec3(up),
+            projection,
+        },
+        aspect: aspect.filter(|a| a.is_finite() && *a > 0.0),
+    })
+}
+
+/// Triangles from an index list in the primitive's mode.
+fn assemble(idx: &[u32], mode: Mode) -> Vec<[u32; 3]> {
+    match mode {
+        Mode::TriangleStrip => (2..idx.len())
+            .map(|i| {
+                // Every other triangle is flipped to keep the winding.
+                if i % 2 == 0 {
+                    [idx[i - 2], idx[i - 1], idx[i]]
+                } else {
+                    [idx[i - 1], idx[i - 2], idx[i]]
+                }
+            })
+            .collect(),
+        Mode::TriangleFan => (2..idx.len())
+            .map(|i| [idx[0], idx[i - 1], idx[i]])
+            .collect(),
+        _ => idx.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect(),
+    }
+}
+
+/// Bytes per component of a data type.
+fn component_size(t: DataType) -> usize {
+    match t {
+        DataType::I8 | DataType::U8 => 1,
+        DataType::I16 | DataType::U16 => 2,
+        DataType::U32 | DataType::F32 => 4,
+    }
+}
+
+/// The byte range of an accessor's elements in a buffer view, checked:
+/// `(buffer data, start, stride)`.
+fn element_slice<'b>(
+    view: &gltf::buffer::View,
+    offset: usize,
+    count: usize,
+    elem: usize,
+    buffers: &'b [Vec<u8>],
+) -> std::result::Result<(&'b [u8], usize), String> {
+    let data = buffers
+        .get(view.buffer().index())
+        .ok_or_else(|| format!("buffer view {} has no buffer", view.index()))?;
+    let stride = view.stride().unwrap_or(elem);
+    if stride < elem {
+        return Err(format!(
+            "buffer view {} has stride {stride}, less than the element size {elem}",
+            view.index()
+        ));
+    }
+    let view_end = view
+        .offset()
+        .checked_add(view.length())
+        .filter(|&e| e <= data.len())
+        .ok_or_else(|| {
+            format!(
+                "buffer view {} runs past the end of its buffer",
+                view.index()
+            )
+        })?;
+    if count == 0 {
+        return Ok((&[], stride));
+    }
+    let start = view.offset().checked_add(offset);
+    let end = start
+        .and_then(|s| stride.checked_mul(count - 1).and_then(|x| x.checked_add(s)))
+        .and_then(|x| x.checked_add(elem));
+    match (start, end) {
+        (Some(s), Some(e)) if e <= view_end => Ok((&data[s..e], stride)),
+        _ => Err(format!(
+            "{count} elements at offset {offset} do not fit in buffer view {} ({} bytes)",
+            view.index(),
+            view.length()
+        )),
+    }
+}
+
+/// Reads `count` elements of `elem` bytes each with a stride, decoding each.
+fn read_elements<T>(
+    bytes: &[u8],
+    stride: usize,
+    count: usize,
+    elem: usize,
+    decode: impl Fn(&[u8]) -> T,
+) -> Vec<T> {
+    (0..count)
+        .map(|i| decode(&bytes[i * stride..i * stride + elem]))
+        .collect()
+}
+
+fn f32_le(b: &[u8]) -> f32 {
+    f32::from_le_bytes([b[0], b[1], b[2], b[3]])
+}
+
+/// Reads a FLOAT VEC3 accessor (positions, normals), sparse or not.
+fn read_vec3(
+    acc: &gltf::Accessor,
+    buffers: &[Vec<u8>],
+) -> std::result::Result<Vec<[f32; 3]>, String> {
+    if acc.data_type() != DataType::F32 || acc.dimensions() != Dimensions::Vec3 {
+        return Err(format!(
+            "accessor {} is {:?} {:?}; expected FLOAT VEC3 (quantized meshes are not supported)",
+            acc.index(),
+            acc.data_type(),
+            acc.dimensions()
+        ));
+    }
+    let count = acc.count();
+    let decode = |b: &[u8]| [f32_le(b), f32_le(&b[4..]), f32_le(&b[8..])];
+    let mut out = match acc.view() {
+        Some(view) => {
+            let (bytes, stride) = element_slice(&view, acc.offset(), count, 12, buffers)?;
+            read_elements(bytes, stride, count, 12, decode)
+        }
+        None => {
+            if count > 1 << 24 {
+                return Err(format!(
+                    "accessor {} has an absurd count {count}",
+                    acc.index()
+                ));
+            }
+            vec![[0.0; 3]; count]
+        }
+    };
+    if let Some(sparse) = acc.sparse() {
+        let n = sparse.count();
+        let iv = sparse.indices();
+        let isize_ = match iv.index_type() {
+            gltf::accessor::sparse::IndexType::U8 => 1,
+            gltf::accessor::sparse::IndexType::U16 => 2,
+            gltf::accessor::sparse::IndexType::U32 => 4,
+        };
+        let (ib, istride) = element_slice(&iv.view(), iv.offset(), n, isize_, buffers)?;
+        let idx = read_elements(ib, istride, n, isize_, read_uint);
+        let vv = sparse.values();
+        let (vb, vstride) = element_slice(&vv.view(), vv.offset(), n, 12, buffers)?;
+        let vals = read_elements(vb, vstride, n, 12, decode);
+        for (i, v) in idx.into_iter().zip(vals) {
+            let slot = out
+                .get_mut(i as usize)
+                .ok_or_else(|| format!("sparse index {i} is out of range ({count} elements)"))?;
+            *slot = v;
+        }
+    }
+    Ok(out)
+}
+
+/// A little-endian unsigned integer of 1, 2 or 4 bytes.
+fn read_uint(b: &[u8]) -> u32 {
+    match b.len() {
+        1 => u32::from(b[0]),
+        2 => u32::from(u16::from_le_bytes([b[0], b[1]])),
+        _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]),
+    }
+}
+
+/// Reads an index accessor (UNSIGNED_BYTE/SHORT/INT SCALAR).
+fn read_indices(
+    acc: &gltf::Accessor,
+    buffers: &[Vec<u8>],
+) -> std::result::Result<Vec<u32>, String> {
+    let size = component_size(acc.data_type());
+    let unsigned = matches!(
+        acc.data_type(),
+        DataType::U8 | DataType::U16 | DataType::U32
+    );
+    if !unsigned || acc.dimensions() != Dimensions::Scalar || acc.sparse().is_some() {
+        return Err(format!(
+            "accessor {} is {:?} {:?}{}; indices must be an unsigned SCALAR accessor",
+            acc.index(),
+            acc.data_type(),
+            acc.dimensions(),
+            if acc.sparse().is_some() {
+                " (sparse)"
+            } else {
+                ""
+            }
+        ));
+    }
+    let view = acc
+        .view()
+        .ok_or_else(|| format!("index accessor {} has no buffer view", acc.index()))?;
+    let (bytes, stride) = element_slice(&view, acc.offset(), acc.count(), size, buffers)?;
+    Ok(read_elements(bytes, stride, acc.count(), size, read_uint))
+}
+
+/// Maps a glTF metallic-roughness material to ours:
+///
+/// - emissive factor non-zero without an emissive texture → Emissive;
+/// - `alphaMode: BLEND` with base alpha < 1 → Dielectric (ior 1.5, tinted by
+///   the base colour);
+/// - metallic ≥ 0.5 and roughness ≤ 0.3 → Reflective (the mirror reflects
+///   the base colour, kr = metallic · (1 − roughness));
+/// - roughness < 0.6 → Phong with exponent 2/α² − 2, α = roughness²;
+/// - otherwise Matte with the base colour.
+fn pbr_material(m: &gltf::Material, name: &str, warnings: &mut Vec<String>) -> Material {
+    let pbr = m.pbr_metallic_roughness();
+    let finite01 = |x: f32| {
+        if x.is_finite() {
+            x.clamp(0.0, 1.0)
+        } else {
+            1.0
+        }
+    };
+    let bc = pbr.base_color_factor();
+    let base = Rgb::new(finite01(bc[0]), finite01(bc[1]), finite01(bc[2]));
+    let alpha = finite01(bc[3]);
+    let metallic = finite01(pbr.metallic_factor());
+    let roughness = finite01(pbr.roughness_factor());
+    let e = m
+        .emissive_factor()
+        .map(|x| if x.is_finite() { x.max(0.0) } else { 0.0 });
+    let emissive = Rgb::from_array(e);
+    let max_e = emissive.max_element();
+    if max_e > 0.0 {
+        if m.emissive_texture().is_none() {
+            return Material::Emissive {
+                color: emissive / max_e,
+                strength: max_e,
+            };
+        }
+        warnings.push(format!(
+            "material \"{name}\": emission comes from a texture, which is ignored"
+        ));
+    }
+    if m.alpha_mode() == gltf::material::AlphaMode::Blend && alpha < 1.0 {
+        return Material::Dielectric {
+            ior: 1.5,
+            tint: base,
+        };
+    }
+    let alpha_r = (roughness * roughness).max(1e-3);
+    let exp = (2.0 / (alpha_r * alpha_r) - 2.0).clamp(1.0, 2000.0);
+    if metallic >= 0.5 && roughness <= 0.3 {
+        return Material::Reflective {
+            color: base,
+            ka: 0.25 * (1.0 - metallic),
+            kd: 1.0 - metallic,
+            ks: 0.0,
+            exp,
+            kr: metallic * (1.0 - roughness),
+            reflect: base,
+        };
+    }
+    if roughness < 0.6 {
+        return Material::Phong {
+            color: base,
+            ka: 0.25,
+            kd: 1.0 - 0.5 * metallic,
+            ks: 0.5 * (1.0 - roughness),
+            exp,
+            specular: Rgb::ONE.lerp(base, metallic),
+        };
+    }
+    Material::Matte {
+        color: base,
+        ka: 0.25,
+        kd: 1.0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strips_and_fans() {
+        assert_eq!(
+            assemble(&[0, 1, 2, 3], Mode::TriangleStrip),
+            vec![[0, 1, 2], [2, 1, 3]]
+        );
+        assert_eq!(
+            assemble(&[0, 1, 2, 3], Mode::TriangleFan),
+            vec![[0, 1, 2], [0, 2, 3]]
+        );
+        assert_eq!(assemble(&[0, 1, 2, 3], Mode::Triangles), vec![[0, 1, 2]]);
+        assert!(assemble(&[0, 1], Mode::TriangleStrip).is_empty());
+    }
+}

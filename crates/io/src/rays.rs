@@ -1,0 +1,171 @@
+//! Batch closest-hit queries against a mesh: `gridrt rays MESH RAYS.csv`.
+//!
+//! Input: one ray per line, `ox,oy,oz,dx,dy,dz` or
+//! `ox,oy,oz,dx,dy,dz,tmin,tmax` (defaults `tmin = 0`, `tmax = inf`;
+//! `inf` is accepted). Blank lines and lines starting with `#` are skipped;
+//! fields may have spaces around them. Output: one line per ray, in input
+//! order: `t,triangle,u,v` for a hit (the triangle's index in the mesh
+//! file's triangle order after triangulation; `u`, `v` the barycentric
+//! weights of its second and third vertex) or `miss`.
+
+use crate::error::{Error, Result};
+use gridrt_bbox::{Real, Vec3};
+use gridrt_grid::{Accelerator, Hit, Ray};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// One ray query.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayQuery {
+    /// The ray.
+    pub ray: Ray,
+    /// Smallest accepted `t`.
+    pub t_min: Real,
+    /// Largest accepted `t`.
+    pub t_max: Real,
+}
+
+/// Parses a rays CSV text (see the module docs for the format). `path`
+/// names the file in messages.
+///
+/// ```
+/// let rays = gridrt_io::parse_rays("# origin, direction\n0,0,1, 0,0,-1\n\n0,0,1,0,0,-1,0.5,inf\n",
+///     std::path::Path::new("r.csv")).unwrap();
+/// assert_eq!(rays.len(), 2);
+/// assert_eq!(rays[1].t_min, 0.5);
+/// let err = gridrt_io::parse_rays("1,2,3\n", std::path::Path::new("r.csv")).unwrap_err();
+/// assert!(err.to_string().starts_with("r.csv:1: "));
+/// ```
+///
+/// # Errors
+/// [`Error::Rays`] naming the line of the first bad ray: wrong field
+/// count, a field that is not a number, NaN, an infinite origin or
+/// direction, a zero direction, `tmin > tmax`.
+pub fn parse_rays(text: &str, path: &Path) -> Result<Vec<RayQuery>> {
+    let mut out = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let q = parse_line(line).map_err(|msg| Error::Rays {
+            path: path.to_path_buf(),
+            line: i + 1,
+            msg,
+        })?;
+        out.push(q);
+    }
+    Ok(out)
+}
+
+fn parse_line(line: &str) -> std::result::Result<RayQuery, String> {
+    let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+    if fields.len() != 6 && fields.len() != 8 {
+        return Err(format!(
+            "expected 6 or 8 comma-separated numbers `ox,oy,oz,dx,dy,dz[,tmin,tmax]`, found {} field{}",
+            fields.len(),
+            if fields.len() == 1 { "" } else { "s" }
+        ));
+    }
+    let mut v = [0.0 as Real; 8];
+    for (k, f) in fields.iter().enumerate() {
+        let x: Real = f
+            .parse()
+            .map_err(|_| format!("field {} `{f}` is not a number", k + 1))?;
+        if x.is_nan() {
+            return Err(format!("field {} is NaN", k + 1));
+        }
+        v[k] = x;
+    }
+    let origin = Vec3::new(v[0], v[1], v[2]);
+    let dir = Vec3::new(v[3], v[4], v[5]);
+    if !origin.is_finite() || !dir.is_finite() {
+        return Err("the origin and direction must be finite".to_string());
+    }
+    if dir == Vec3::ZERO {
+        return Err("the direction is (0, 0, 0): give a non-zero direction".to_string());
+    }
+    let (t_min, t_max) = if fields.len() == 8 {
+        (v[6], v[7])
+    } else {
+        (0.0, Real::INFINITY)
+    };
+    if t_min > t_max {
+        return Err(format!("tmin {t_min} is greater than tmax {t_max}"));
+    }
+    Ok(RayQuery {
+        ray: Ray::new(origin, dir),
+        t_min,
+        t_max,
+    })
+}
+
+/// Answers every query with the accelerator, in order.
+pub fn trace_rays<A: Accelerator>(accel: &A, rays: &[RayQuery]) -> Vec<Option<Hit>> {
+    let mut scratch = accel.scratch();
+    rays.iter()
+        .map(|q| accel.closest_hit(&q.ray, q.t_min, q.t_max, &mut scratch))
+        .collect()
+}
+
+/// Formats answers as the output CSV: `t,triangle,u,v` or `miss` per line.
+/// Numbers use the shortest text that reads back to the same value.
+#[must_use]
+pub fn format_hits(hits: &[Option<Hit>]) -> String {
+    let mut s = String::with_capacity(hits.len() * 32);
+    for h in hits {
+        match h {
+            // Writing to a String cannot fail.
+            Some(h) => {
+                let _ = writeln!(s, "{},{},{},{}", h.t, h.prim, h.u, h.v);
+            }
+            None => s.push_str("miss\n"),
+        }
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn err(text: &str) -> String {
+        parse_rays(text, Path::new("r.csv"))
+            .unwrap_err()
+            .to_string()
+    }
+
+    #[test]
+    fn parses_both_forms_and_skips_comments() {
+        let r = parse_rays(
+            " 1, 2, 3, 0, 0, -1 \r\n# c\n\n0,0,0,1,0,0,0.5,10\n",
+            Path::new("r.csv"),
+        )
+        .unwrap();
+        assert_eq!(r.len(), 2);
+        assert_eq!(r[0].ray.origin, Vec3::new(1.0, 2.0, 3.0));
+        assert_eq!((r[0].t_min, r[0].t_max), (0.0, Real::INFINITY));
+        assert_eq!((r[1].t_min, r[1].t_max), (0.5, 10.0));
+    }
+
+    #[test]
+    fn bad_lines_name_the_line() {
+        assert!(err("0,0,0,1,0,0\n1,2\n").starts_with("r.csv:2: expected 6 or 8"));
+        assert!(err("0,0,0,1,0,x\n").contains("field 6 `x` is not a number"));
+        assert!(err("0,0,0,0,0,0\n").contains("non-zero direction"));
+        assert!(err("0,0,0,1,0,0,5,1\n").contains("greater than"));
+        assert!(err("nan,0,0,1,0,0\n").contains("NaN"));
+        assert!(err("inf,0,0,1,0,0\n").contains("finite"));
+    }
+
+    #[test]
+    fn output_format() {
+        let h = Hit {
+            t: 1.5,
+            u: 0.25,
+            v: 0.5,
+            prim: 7,
+        };
+        assert_eq!(format_hits(&[Some(h), None]), "1.5,7,0.25,0.5\nmiss\n");
+    }
+}

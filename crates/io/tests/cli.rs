@@ -1,0 +1,284 @@
+//! The `gridrt` binary end to end.
+
+use crate::fixture;
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn gridrt(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_gridrt"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("the gridrt binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// The one-line `error: …` contract.
+fn assert_one_line_error(o: &Output, needle: &str) {
+    assert_eq!(o.status.code(), Some(1), "stderr: {}", stderr(o));
+    let e = stderr(o);
+    assert!(e.starts_with("error: "), "{e}");
+    assert_eq!(e.trim_end().lines().count(), 1, "{e}");
+    assert!(e.contains(needle), "{e}");
+}
+
+fn png_size(p: &Path) -> (u32, u32) {
+    let img = image::open(p).unwrap();
+    (img.width(), img.height())
+}
+
+#[test]
+fn default_render_without_a_subcommand() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = gridrt(&["--width", "64", "--height", "48"], dir.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = dir.path().join("out.png");
+    assert_eq!(png_size(&out), (64, 48));
+    let s = stdout(&o);
+    assert!(s.contains("wrote       out.png"), "{s}");
+    assert!(
+        s.contains("Mrays/s") && s.contains("shadows") && s.contains("grid"),
+        "{s}"
+    );
+    // Nothing noisy on a non-terminal stderr, no temporary files left.
+    assert_eq!(stderr(&o), "");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+}
+
+#[test]
+fn render_subcommand_exr_and_stats() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = gridrt(
+        &[
+            "render",
+            "-o",
+            "img.exr",
+            "--width",
+            "32",
+            "--spp",
+            "1",
+            "--threads",
+            "1",
+            "--stats",
+            "s.json",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let img = image::open(dir.path().join("img.exr")).unwrap().to_rgb32f();
+    assert_eq!((img.width(), img.height()), (32, 24));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("s.json")).unwrap()).unwrap();
+    assert_eq!(json["width"], 32);
+    assert_eq!(json["spp"], 1);
+    assert_eq!(json["accel"], "grid");
+    assert!(json["rays"]["camera"].as_u64().unwrap() == 32 * 24);
+    assert!(json["plan"]["shadows"].as_bool().unwrap());
+    assert!(json["render_time"].as_f64().is_some());
+    assert!(json["grid"]["dims"].is_array());
+}
+
+#[test]
+fn render_a_fixture_scene_and_a_model_with_each_accelerator() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = fixture("scenes/obj_cube_transform.ron");
+    for accel in ["grid", "dense-grid", "exhaustive"] {
+        let out = format!("{accel}.png");
+        let o = gridrt(
+            &[
+                "render",
+                scene.to_str().unwrap(),
+                "-o",
+                &out,
+                "--width",
+                "40",
+                "--accel",
+                accel,
+                "--grid-m",
+                "3",
+            ],
+            dir.path(),
+        );
+        assert!(o.status.success(), "{accel}: {}", stderr(&o));
+        assert_eq!(png_size(&dir.path().join(&out)), (40, 30));
+    }
+    // Grid and exhaustive render the same image.
+    let a = std::fs::read(dir.path().join("grid.png")).unwrap();
+    let b = std::fs::read(dir.path().join("exhaustive.png")).unwrap();
+    assert_eq!(a, b);
+    let model = fixture("meshes/generated/hierarchy.glb");
+    let o = gridrt(
+        &[
+            "render",
+            model.to_str().unwrap(),
+            "-o",
+            "m.png",
+            "--width",
+            "40",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning: "),
+        "points and spot warnings expected"
+    );
+}
+
+#[test]
+fn a_bad_scene_fails_without_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = fixture("bad/ron_unknown_material.ron");
+    let o = gridrt(
+        &["render", bad.to_str().unwrap(), "-o", "x.png"],
+        dir.path(),
+    );
+    assert_one_line_error(&o, "unknown material \"blue\"");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
+
+#[test]
+fn a_failed_render_keeps_the_existing_image() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("keep.png"), b"GOOD").unwrap();
+    for bad in [
+        "bad/ron_malformed.ron",
+        "bad/obj_nan_vertex.obj",
+        "bad/gltf_missing_buffer.gltf",
+    ] {
+        let p = fixture(bad);
+        let o = gridrt(
+            &["render", p.to_str().unwrap(), "-o", "keep.png"],
+            dir.path(),
+        );
+        assert_eq!(o.status.code(), Some(1), "{bad}");
+        assert_eq!(
+            std::fs::read(dir.path().join("keep.png")).unwrap(),
+            b"GOOD",
+            "{bad}"
+        );
+    }
+    // Bad overrides fail before rendering, too.
+    let o = gridrt(&["render", "-o", "keep.png", "--spp", "0"], dir.path());
+    assert_one_line_error(&o, "--spp");
+    let o = gridrt(
+        &["render", "-o", "keep.png", "--width", "100000"],
+        dir.path(),
+    );
+    assert_one_line_error(&o, "--width");
+    assert_eq!(std::fs::read(dir.path().join("keep.png")).unwrap(), b"GOOD");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+}
+
+#[test]
+fn bad_output_paths_fail_before_rendering() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = gridrt(&["render", "-o", "out.jpg"], dir.path());
+    assert_one_line_error(&o, "unknown image format \".jpg\"");
+    let o = gridrt(&["render", "-o", "no/such/dir/out.png"], dir.path());
+    assert_one_line_error(&o, "does not exist");
+    let o = gridrt(
+        &["render", "-o", "out.png", "--stats", "missing/s.json"],
+        dir.path(),
+    );
+    assert_one_line_error(&o, "does not exist");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
+
+#[test]
+fn usage_errors_exit_with_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = gridrt(&["render", "--accel", "octree"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    let o = gridrt(&["render", "--grid-m", "-1"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    let o = gridrt(&["rays"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn info_prints_scene_and_grid_statistics() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = fixture("scenes/gltf_hierarchy.ron");
+    let o = gridrt(&["info", p.to_str().unwrap()], dir.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = stdout(&o);
+    for needle in [
+        "objects",
+        "triangles",
+        "grid ",
+        "occupied",
+        "build",
+        "camera",
+    ] {
+        assert!(s.contains(needle), "{needle}: {s}");
+    }
+    let o = gridrt(&["info"], dir.path());
+    assert!(stdout(&o).contains("<built-in default scene>"));
+    let bad = fixture("bad/gltf_no_meshes.gltf");
+    let o = gridrt(&["info", bad.to_str().unwrap()], dir.path());
+    assert_one_line_error(&o, "no meshes");
+}
+
+#[test]
+fn rays_on_a_tiny_mesh_give_the_known_answers() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = fixture("meshes/generated/tri.obj");
+    let rays = fixture("meshes/generated/tri_rays.csv");
+    let expected =
+        std::fs::read_to_string(fixture("meshes/generated/tri_rays.expected.csv")).unwrap();
+    for accel in ["grid", "dense-grid", "exhaustive"] {
+        let o = gridrt(
+            &[
+                "rays",
+                mesh.to_str().unwrap(),
+                rays.to_str().unwrap(),
+                "--accel",
+                accel,
+            ],
+            dir.path(),
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert_eq!(stdout(&o), expected, "{accel}");
+    }
+    let o = gridrt(
+        &[
+            "rays",
+            mesh.to_str().unwrap(),
+            rays.to_str().unwrap(),
+            "-o",
+            "hits.csv",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("hits.csv")).unwrap(),
+        expected
+    );
+    let bad = fixture("bad/rays_bad_line.csv");
+    let o = gridrt(
+        &["rays", mesh.to_str().unwrap(), bad.to_str().unwrap()],
+        dir.path(),
+    );
+    assert_one_line_error(&o, "rays_bad_line.csv:3:");
+    assert_eq!(stdout(&o), "");
+}
+
+#[test]
+fn rays_number_gltf_triangles_in_node_order() {
+    // Ray straight down onto the glass triangle (index 27) of hierarchy.gltf.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("r.csv"), "0.25,0.25,5,0,0,-1\n").unwrap();
+    let mesh = fixture("meshes/generated/hierarchy.glb");
+    let o = gridrt(&["rays", mesh.to_str().unwrap(), "r.csv"], dir.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(stdout(&o), "3,27,0.25,0.25\n");
+}

@@ -1,0 +1,251 @@
+//! Model loading: OBJ groups and MTL materials, glTF node hierarchies,
+//! cameras, lights and materials, and meshes placed by scene files.
+
+use crate::fixture;
+use gridrt_bbox::{Aabb, Real, Vec3};
+use gridrt_io::{load_model, load_scene, parse_scene, scene_from_model, Model};
+use gridrt_tracer::{Geometry, Light, Material, Projection};
+
+fn bounds_of(model: &Model, range: std::ops::Range<usize>) -> Aabb {
+    model
+        .triangles()
+        .skip(range.start)
+        .take(range.len())
+        .flatten()
+        .fold(Aabb::EMPTY, Aabb::grow)
+}
+
+fn close(a: Vec3, b: Vec3) -> bool {
+    (a - b).length() < 1e-5
+}
+
+fn assert_box(b: Aabb, min: [Real; 3], max: [Real; 3]) {
+    assert!(
+        close(b.min, Vec3::from_array(min)) && close(b.max, Vec3::from_array(max)),
+        "{b:?} != {min:?}..{max:?}"
+    );
+}
+
+#[test]
+fn obj_groups_become_named_meshes_with_their_materials() {
+    let m = load_model(&fixture("meshes/cube/cube.obj")).unwrap();
+    assert_eq!(m.triangle_count(), 12);
+    assert_eq!(m.meshes.len(), 6);
+    let names: Vec<&str> = m.meshes.iter().map(|x| x.mesh.name.as_str()).collect();
+    assert_eq!(names[0], "cube.obj:front cube");
+    assert_eq!(names[2], "cube.obj:right cube");
+    let mat_names: Vec<&str> = m.materials.iter().map(|x| x.name.as_str()).collect();
+    assert_eq!(mat_names, ["white", "red", "green", "blue", "light"]);
+    let right = m.meshes[2].material.unwrap();
+    assert_eq!(m.materials[right].name, "red");
+    assert!(
+        matches!(m.materials[right].material, Material::Matte { color, .. } if color.x == 1.0 && color.y == 0.0)
+    );
+    assert_box(m.bounds(), [0.0; 3], [2.0; 3]);
+}
+
+#[test]
+fn cornell_box_maps_mtl_materials() {
+    let m = load_model(&fixture("meshes/cornell_box/CornellBox-Original.obj")).unwrap();
+    assert_eq!(m.triangle_count(), 36);
+    let get = |n: &str| &m.materials.iter().find(|x| x.name == n).unwrap().material;
+    assert!(matches!(get("light"), Material::Emissive { strength, .. } if *strength == 17.0));
+    assert!(matches!(get("leftWall"), Material::Matte { .. }));
+    // Kd 0, Ks 0.725: a specular box.
+    assert!(matches!(get("tallBox"), Material::Reflective { .. }));
+}
+
+#[test]
+fn gltf_hierarchy_composes_node_transforms() {
+    let m = load_model(&fixture("meshes/generated/hierarchy.gltf")).unwrap();
+    assert_eq!(m.triangle_count(), 28);
+    assert_eq!(m.meshes.len(), 5);
+    // cube_child: arm · T(0,1,0) · S(0.5), arm = T(2,0,0) · Rz(90°).
+    assert_box(
+        bounds_of(&m, 0..12),
+        [0.75, -0.25, -0.25],
+        [1.25, 0.25, 0.25],
+    );
+    // mirrored: arm · T(0,-1,0) · S(-1,1,1).
+    assert_box(bounds_of(&m, 12..24), [2.5, -0.5, -0.5], [3.5, 0.5, 0.5]);
+    assert!(!m.meshes[0].mirrored);
+    assert!(m.meshes[1].mirrored);
+    // The non-indexed triangle, then the strip (2 triangles), then glass.
+    let tris: Vec<[Vec3; 3]> = m.triangles().collect();
+    assert!(close(tris[24][0], Vec3::new(-2.0, 0.0, 0.0)));
+    assert!(close(tris[24][1], Vec3::new(-1.0, 0.0, 0.0)));
+    assert_box(bounds_of(&m, 25..27), [0.0, 0.0, -2.0], [1.0, 1.0, -2.0]);
+    assert_box(bounds_of(&m, 27..28), [0.0, 0.0, 2.0], [1.0, 1.0, 2.0]);
+    // Points primitive skipped, spot light approximated: both reported.
+    assert!(
+        m.warnings.iter().any(|w| w.contains("Points")),
+        "{:?}",
+        m.warnings
+    );
+    assert!(
+        m.warnings.iter().any(|w| w.contains("spot")),
+        "{:?}",
+        m.warnings
+    );
+}
+
+#[test]
+fn gltf_normals_follow_the_inverse_transpose_and_faces_stay_outward() {
+    let m = load_model(&fixture("meshes/generated/hierarchy.gltf")).unwrap();
+    for (i, mm) in m.meshes.iter().take(2).enumerate() {
+        let mesh = mm.oriented();
+        assert_eq!(mesh.normals.len(), mesh.positions.len());
+        for t in &mesh.triangles {
+            let p: Vec<Vec3> = t.iter().map(|&k| mesh.positions[k as usize]).collect();
+            let geo = (p[1] - p[0]).cross(p[2] - p[0]);
+            let n = mesh.normals[t[0] as usize];
+            assert!(geo.dot(n) > 0.0, "mesh {i}: winding against normal {n}");
+            // Outward: the normal points away from the cube's centre.
+            let c = (mesh
+                .positions
+                .iter()
+                .copied()
+                .fold(Vec3::ZERO, |a, b| a + b))
+                / mesh.positions.len() as Real;
+            assert!(
+                (p[0] - c).dot(n) > 0.0,
+                "mesh {i}: normal {n} points inward"
+            );
+        }
+    }
+    // The +x face of the cube child points +y after the arm's Rz(90°).
+    let child = &m.meshes[0].mesh;
+    assert!(child.normals.iter().any(|n| close(*n, Vec3::Y)));
+}
+
+#[test]
+fn gltf_materials_cameras_and_lights() {
+    let m = load_model(&fixture("meshes/generated/hierarchy.gltf")).unwrap();
+    let kinds: Vec<&str> = m
+        .materials
+        .iter()
+        .map(|x| match x.material {
+            Material::Matte { .. } => "matte",
+            Material::Phong { .. } => "phong",
+            Material::Reflective { .. } => "reflective",
+            Material::Dielectric { .. } => "dielectric",
+            Material::Emissive { .. } => "emissive",
+        })
+        .collect();
+    assert_eq!(kinds, ["matte", "reflective", "emissive", "dielectric"]);
+    let cam = m.camera.as_ref().unwrap();
+    assert!(close(cam.camera.eye, Vec3::new(0.0, 1.0, 8.0)));
+    assert!(close(cam.camera.look_at, Vec3::new(0.0, 1.0, 7.0)));
+    match cam.camera.projection {
+        Projection::Perspective { vfov_deg } => {
+            assert!((vfov_deg - 0.7f64.to_degrees() as Real).abs() < 1e-3)
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!((cam.aspect.unwrap() - 1.3333).abs() < 1e-4);
+    assert_eq!(m.lights.len(), 3);
+    assert!(
+        matches!(m.lights[0], Light::Directional { direction, .. } if close(direction, Vec3::Y))
+    );
+    assert!(
+        matches!(m.lights[1], Light::Point { position, inverse_square: true, .. } if close(position, Vec3::new(2.0, 3.0, 2.0)))
+    );
+    assert!(
+        matches!(m.lights[2], Light::Point { position, .. } if close(position, Vec3::new(-2.0, 3.0, 2.0)))
+    );
+}
+
+#[test]
+fn gltf_and_glb_give_the_same_triangles() {
+    for (a, b) in [
+        (
+            "meshes/generated/hierarchy.gltf",
+            "meshes/generated/hierarchy.glb",
+        ),
+        ("meshes/gltf_box/Box.gltf", "meshes/gltf_box/Box.glb"),
+    ] {
+        let ta: Vec<_> = load_model(&fixture(a)).unwrap().triangles().collect();
+        let tb: Vec<_> = load_model(&fixture(b)).unwrap().triangles().collect();
+        assert_eq!(ta, tb, "{a} vs {b}");
+    }
+    let boxm = load_model(&fixture("meshes/gltf_box/Box.gltf")).unwrap();
+    assert_eq!(boxm.triangle_count(), 12);
+    assert_box(boxm.bounds(), [-0.5; 3], [0.5; 3]);
+}
+
+#[test]
+fn one_mesh_on_two_nodes_is_instanced() {
+    let m = load_model(&fixture("meshes/gltf_simple_meshes/SimpleMeshes.gltf")).unwrap();
+    let t: Vec<_> = m.triangles().collect();
+    assert_eq!(t.len(), 2);
+    for (a, b) in t[0].iter().zip(&t[1]) {
+        assert!(close(*b, *a + Vec3::X));
+    }
+}
+
+#[test]
+fn a_model_on_its_own_uses_its_camera_and_lights() {
+    let s = scene_from_model(load_model(&fixture("meshes/generated/hierarchy.gltf")).unwrap());
+    assert!(!s.framed_camera);
+    assert_eq!(
+        (s.scene.settings.width, s.scene.settings.height),
+        (640, 480)
+    );
+    assert_eq!(s.scene.lights.len(), 3);
+    // Without camera or lights: framed, with default lights.
+    let s = load_scene(&fixture("meshes/cube/cube.obj")).unwrap();
+    assert!(s.framed_camera);
+    assert!(s
+        .scene
+        .lights
+        .iter()
+        .any(|l| matches!(l, Light::Directional { shadows: true, .. })));
+    gridrt_tracer::Renderer::new(&s.scene, &Default::default()).unwrap();
+}
+
+#[test]
+fn scene_meshes_take_transforms_and_material_overrides() {
+    let text = r#"Scene(
+        materials: { "glass": Dielectric(), "steel": Reflective(kr: 0.5) },
+        objects: [
+            Mesh(file: "meshes/cube/cube.obj", transform: [Translate((-1, -1, -1)), Scale(2), Translate((10, 0, 0))],
+                 materials: { "red": "glass" }, material: "steel"),
+            Mesh(file: "meshes/cube/cube.obj", transform: [Scale((-1, 1, 1))]),
+        ],
+    )"#;
+    let s = parse_scene(text, &crate::fixtures().join("inline.ron")).unwrap();
+    let sc = &s.scene;
+    assert_eq!(sc.objects.len(), 12);
+    let meshes: Vec<_> = sc
+        .objects
+        .iter()
+        .map(|o| match &o.geometry {
+            Geometry::Mesh(m) => (m, o.material),
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    // First copy: (0..2)³ → (-1..1)³ → (-2..2)³ → x + 10.
+    let b = meshes[..6]
+        .iter()
+        .flat_map(|(m, _)| m.positions.iter().copied())
+        .fold(Aabb::EMPTY, Aabb::grow);
+    assert_box(b, [8.0, -2.0, -2.0], [12.0, 2.0, 2.0]);
+    // "right cube" uses red → overridden to glass (id 0); the rest → steel (id 1).
+    assert_eq!(meshes[2].1, 0);
+    assert!(meshes[..6]
+        .iter()
+        .enumerate()
+        .all(|(i, (_, id))| i == 2 || *id == 1));
+    // Second copy: mirrored in x, file materials added under "cube.obj:<name>".
+    let b = meshes[6..]
+        .iter()
+        .flat_map(|(m, _)| m.positions.iter().copied())
+        .fold(Aabb::EMPTY, Aabb::grow);
+    assert_box(b, [-2.0, 0.0, 0.0], [0.0, 2.0, 2.0]);
+    assert!(sc.materials.len() >= 4);
+    // Mirrored meshes are re-wound: the front face (z = 2) still faces +z.
+    let (front, _) = meshes[6];
+    let t = front.triangles[0];
+    let p: Vec<Vec3> = t.iter().map(|&k| front.positions[k as usize]).collect();
+    assert!((p[1] - p[0]).cross(p[2] - p[0]).z > 0.0);
+}

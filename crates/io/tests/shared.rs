@@ -1,0 +1,72 @@
+//! Optional checks against the real models in `../shared/scenes` (beside
+//! the workspace). Skipped, with a note, when that folder is absent: the
+//! project's own tests never need it.
+
+use gridrt_io::{load_model, load_scene};
+use std::path::PathBuf;
+
+fn shared_scenes() -> Option<PathBuf> {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes");
+    if p.is_dir() {
+        Some(p)
+    } else {
+        eprintln!("skipped: {} is absent", p.display());
+        None
+    }
+}
+
+/// Every small model in shared/scenes loads into a scene (the large ones,
+/// dragon and bunny, are left to `gridrt info` in release builds).
+#[test]
+fn shared_models_load() {
+    let Some(root) = shared_scenes() else { return };
+    let mut n = 0;
+    for dir in std::fs::read_dir(&root).unwrap() {
+        let dir = dir.unwrap().path();
+        let name = dir.file_name().unwrap().to_string_lossy().into_owned();
+        if !dir.is_dir() || name == "dragon" || name == "bunny" || name == "teapot_in_stadium" {
+            continue;
+        }
+        for f in std::fs::read_dir(&dir).unwrap() {
+            let f = f.unwrap().path();
+            let ext = f.extension().map(|e| e.to_string_lossy().to_lowercase());
+            if matches!(ext.as_deref(), Some("obj" | "gltf" | "glb")) {
+                let s = load_scene(&f).unwrap_or_else(|e| panic!("{e}"));
+                assert!(!s.scene.objects.is_empty(), "{}", f.display());
+                n += 1;
+            }
+        }
+    }
+    assert!(n >= 15, "only {n} models found");
+}
+
+/// The teapot in a stadium is stored twice: pre-transformed OBJ and a glTF
+/// node hierarchy. Both must give the same world-space triangles.
+#[test]
+fn stadium_obj_and_gltf_agree() {
+    let Some(root) = shared_scenes() else { return };
+    let dir = root.join("teapot_in_stadium");
+    let obj = load_model(&dir.join("teapot_in_stadium.obj")).unwrap();
+    let glb = load_model(&dir.join("teapot_in_stadium.glb")).unwrap();
+    assert_eq!(obj.triangle_count(), 75_807);
+    assert_eq!(glb.triangle_count(), 75_807);
+    let bo = obj.bounds();
+    let bg = glb.bounds();
+    assert!(
+        (bo.min - bg.min).abs().max_element() < 1e-2,
+        "{bo:?} {bg:?}"
+    );
+    assert!(
+        (bo.max - bg.max).abs().max_element() < 1e-2,
+        "{bo:?} {bg:?}"
+    );
+    // Triangle by triangle (the OBJ is printed with 6 decimals).
+    let mut worst: gridrt_bbox::Real = 0.0;
+    for (a, b) in obj.triangles().zip(glb.triangles()) {
+        for k in 0..3 {
+            let d = (a[k] - b[k]).abs().max_element();
+            worst = worst.max(d);
+        }
+    }
+    assert!(worst < 1e-3, "largest vertex difference {worst}");
+}

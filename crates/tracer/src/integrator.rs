@@ -1,0 +1,523 @@
+//! Light transport: the shading data of a prepared scene and the Whitted
+//! integrator, specialised at compile time on the effects of the plan.
+
+use crate::float::{offset_ray_origin, to_f32};
+use crate::optics::{fresnel_dielectric, reflect, refract};
+use crate::plan::RayCounts;
+use crate::scene::{Material, Rgb};
+use crate::shapes::{Plane, Surface, SurfacePoint};
+use gridrt_bbox::{gamma, Ray, Real, Vec3};
+use gridrt_grid::{Accelerator, Hit};
+use std::f32::consts::FRAC_1_PI;
+
+/// Per-vertex normals of a mesh, for smooth shading.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct MeshShading {
+    pub normals: Vec<Vec3>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// Which mesh triangle a grid primitive is (`mesh == u32::MAX`: not a
+/// smooth-shaded triangle).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct MeshRef {
+    pub mesh: u32,
+    pub tri: u32,
+}
+
+impl MeshRef {
+    pub const NONE: Self = Self {
+        mesh: u32::MAX,
+        tri: 0,
+    };
+}
+
+/// A point or directional light, ready for shading.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum DirectLight {
+    Point {
+        position: Vec3,
+        radiance: Rgb,
+        inverse_square: bool,
+        shadows: bool,
+    },
+    Directional {
+        /// Unit vector towards the light.
+        dir: Vec3,
+        radiance: Rgb,
+        shadows: bool,
+    },
+}
+
+/// The material of each accelerator primitive.
+#[derive(Clone, Debug)]
+pub(crate) enum PrimMaterials {
+    /// Every primitive has this material (no table to look up).
+    Uniform(u32),
+    /// Primitive `i` has material `v[i]`.
+    PerPrim(Vec<u32>),
+}
+
+impl Default for PrimMaterials {
+    fn default() -> Self {
+        PrimMaterials::PerPrim(Vec::new())
+    }
+}
+
+impl PrimMaterials {
+    #[inline]
+    pub(crate) fn get(&self, i: usize) -> u32 {
+        match self {
+            PrimMaterials::Uniform(m) => *m,
+            PrimMaterials::PerPrim(v) => v[i],
+        }
+    }
+}
+
+/// Everything shading needs besides the accelerator. Primitive `i` of the
+/// accelerator has material `prim_material.get(i)`; planes come after all
+/// primitives in the tie order.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct SceneData {
+    pub materials: Vec<Material>,
+    pub prim_material: PrimMaterials,
+    /// Empty, or one colour per primitive that replaces the albedo (`color`)
+    /// of its Matte, Phong or Reflective material (a sphere set's colours).
+    pub prim_albedo: Vec<Rgb>,
+    /// Empty when no mesh has normals; else one entry per primitive.
+    pub prim_mesh: Vec<MeshRef>,
+    pub meshes: Vec<MeshShading>,
+    pub planes: Vec<Plane>,
+    pub plane_material: Vec<u32>,
+    /// Sum of the ambient lights' radiance.
+    pub ambient: Rgb,
+    pub lights: Vec<DirectLight>,
+    pub background: Rgb,
+    pub max_depth: u32,
+}
+
+/// What a ray found: a grid primitive or a plane.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Found {
+    Prim(Hit),
+    Plane { index: u32, t: Real },
+}
+
+impl Found {
+    #[inline]
+    fn t(&self) -> Real {
+        match *self {
+            Found::Prim(h) => h.t,
+            Found::Plane { t, .. } => t,
+        }
+    }
+}
+
+/// The accelerator and the shading data, shared by all threads.
+pub(crate) struct Tracer<'a, A> {
+    pub accel: &'a A,
+    pub data: &'a SceneData,
+}
+
+/// One thread's mutable state: the accelerator's scratch (mailbox) and the
+/// ray counters of the tile being rendered.
+pub(crate) struct ThreadState<S> {
+    pub scratch: S,
+    pub counts: RayCounts,
+}
+
+/// Radiance along a ray, the distance to what it hit (∞ for a miss) and
+/// whether it hit anything.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Li {
+    pub color: Rgb,
+    pub t: Real,
+    pub hit: bool,
+}
+
+/// How the closest hit looks to shading.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Shading {
+    /// Ray parameter of the hit.
+    t: Real,
+    sp: SurfacePoint,
+    material: u32,
+    /// Shading normal (interpolated for smooth meshes), outward.
+    ns: Vec3,
+    /// The primitive's own colour, replacing the material's albedo.
+    albedo: Option<Rgb>,
+}
+
+impl<'a, A> Tracer<'a, A>
+where
+    A: Accelerator,
+    A::Prim: Surface,
+{
+    /// The closest hit in `[0, t_max]`: the accelerator first, then the
+    /// planes, which win only when strictly nearer (they come after every
+    /// primitive in index order, so ties keep the lower index).
+    #[inline]
+    pub(crate) fn closest(&self, ray: &Ray, t_max: Real, scratch: &mut A::Scratch) -> Option<Found> {
+        let mut best = self.accel.closest_hit(ray, 0.0, t_max, scratch).map(Found::Prim);
+        if !self.data.planes.is_empty() {
+            let mut far = best.map_or(t_max, |b| b.t());
+            for (i, p) in self.data.planes.iter().enumerate() {
+                if let Some(t) = p.intersect(ray, 0.0, far) {
+                    if best.is_none() || t < far {
+                        best = Some(Found::Plane { index: i as u32, t });
+                        far = t;
+                    }
+                }
+            }
+        }
+        best
+    }
+
+    /// Whether anything lies on the ray within `[0, t_max]`.
+    #[inline]
+    fn occluded(&self, ray: &Ray, t_max: Real, scratch: &mut A::Scratch) -> bool {
+        self.accel.any_hit(ray, 0.0, t_max, scratch)
+            || self
+                .data
+                .planes
+                .iter()
+                .any(|p| p.intersect(ray, 0.0, t_max).is_some())
+    }
+
+    /// What shading needs to know about a hit: the surface point, normals,
+    /// material and colour. The loads of per-primitive data happen here, so
+    /// that a render loop can gather them for several hits at once.
+    #[inline]
+    pub(crate) fn shading(&self, ray: &Ray, found: Found) -> Shading {
+        match found {
+            Found::Prim(h) => {
+                let i = h.prim as usize;
+                let sp = self.accel.primitives()[i].surface(ray, h.t, h.u, h.v);
+                let mut ns = sp.n;
+                if let Some(m) = self.data.prim_mesh.get(i) {
+                    if m.mesh != u32::MAX {
+                        let mesh = &self.data.meshes[m.mesh as usize];
+                        let [a, b, c] = mesh.triangles[m.tri as usize];
+                        let n = mesh.normals[a as usize] * (1.0 - h.u - h.v)
+                            + mesh.normals[b as usize] * h.u
+                            + mesh.normals[c as usize] * h.v;
+                        // Keep the shading normal on the geometric front side.
+                        if let Some(n) = n.try_normalize() {
+                            ns = if n.dot(sp.n) < 0.0 { -n } else { n };
+                        }
+                    }
+                }
+                Shading {
+                    t: h.t,
+                    sp,
+                    material: self.data.prim_material.get(i),
+                    ns,
+                    albedo: self.data.prim_albedo.get(i).copied(),
+                }
+            }
+            Found::Plane { index, t } => {
+                let sp = self.data.planes[index as usize].surface(ray, t);
+                Shading {
+                    t,
+                    sp,
+                    material: self.data.plane_material[index as usize],
+                    ns: sp.n,
+                    albedo: None,
+                }
+            }
+        }
+    }
+}
+
+/// A light transport algorithm. Implementations are zero-sized types whose
+/// const parameters switch effects on and off at compile time.
+pub(crate) trait Integrator {
+    /// Whether the render loop should trace a row of camera rays first,
+    /// then gather their [`Shading`] (overlapping the cache misses of
+    /// per-primitive data), then call [`Integrator::shade`]; otherwise it
+    /// calls [`Integrator::li`] per ray.
+    const BATCH: bool;
+
+    /// Radiance arriving along `ray` (`depth` secondary bounces so far).
+    fn li<A>(tr: &Tracer<'_, A>, ray: &Ray, depth: u32, ts: &mut ThreadState<A::Scratch>) -> Li
+    where
+        A: Accelerator,
+        A::Prim: Surface;
+
+    /// Radiance arriving along `ray` whose closest hit (or miss) is known.
+    fn shade<A>(
+        tr: &Tracer<'_, A>,
+        ray: &Ray,
+        hit: Option<&Shading>,
+        depth: u32,
+        ts: &mut ThreadState<A::Scratch>,
+    ) -> Li
+    where
+        A: Accelerator,
+        A::Prim: Surface;
+}
+
+/// Suffern's ray casting (`REFLECT = REFRACT = false`) and Whitted tracing.
+/// `SHADOWS = false` removes shadow rays from the code, `REFLECT = false`
+/// mirror reflection, `REFRACT = false` dielectrics: the plan instantiates
+/// only the combination the scene needs.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Whitted<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>;
+
+impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
+    for Whitted<SHADOWS, REFLECT, REFRACT>
+{
+    const BATCH: bool = true;
+
+    #[inline]
+    fn li<A>(tr: &Tracer<'_, A>, ray: &Ray, depth: u32, ts: &mut ThreadState<A::Scratch>) -> Li
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+    {
+        let hit = tr
+            .closest(ray, Real::INFINITY, &mut ts.scratch)
+            .map(|f| tr.shading(ray, f));
+        Self::shade(tr, ray, hit.as_ref(), depth, ts)
+    }
+
+    fn shade<A>(
+        tr: &Tracer<'_, A>,
+        ray: &Ray,
+        hit: Option<&Shading>,
+        depth: u32,
+        ts: &mut ThreadState<A::Scratch>,
+    ) -> Li
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+    {
+        let Some(sh) = hit else {
+            return Li {
+                color: tr.data.background,
+                t: Real::INFINITY,
+                hit: false,
+            };
+        };
+        let t = sh.t;
+        let wo = -ray.dir;
+        let color = match tr.data.materials[sh.material as usize] {
+            Material::Matte { color, ka, kd } => {
+                let color = sh.albedo.unwrap_or(color);
+                let (ng, ns) = face_forward(sh.sp.n, sh.ns, wo);
+                Self::direct(tr, &sh.sp, ng, ns, wo, color * ka, color * (kd * FRAC_1_PI), None, ts)
+            }
+            Material::Phong {
+                color,
+                ka,
+                kd,
+                ks,
+                exp,
+                specular,
+            } => {
+                let color = sh.albedo.unwrap_or(color);
+                let (ng, ns) = face_forward(sh.sp.n, sh.ns, wo);
+                let spec = Some((specular * ks, exp));
+                Self::direct(tr, &sh.sp, ng, ns, wo, color * ka, color * (kd * FRAC_1_PI), spec, ts)
+            }
+            Material::Reflective {
+                color,
+                ka,
+                kd,
+                ks,
+                exp,
+                kr,
+                reflect: cr,
+            } => {
+                let color = sh.albedo.unwrap_or(color);
+                let (ng, ns) = face_forward(sh.sp.n, sh.ns, wo);
+                // Suffern's Reflective extends Phong with a white highlight.
+                let spec = (ks != 0.0).then_some((Rgb::splat(ks), exp));
+                let mut l = Self::direct(tr, &sh.sp, ng, ns, wo, color * ka, color * (kd * FRAC_1_PI), spec, ts);
+                if REFLECT && depth < tr.data.max_depth && kr != 0.0 {
+                    let wr = reflect(wo, ns);
+                    let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wr);
+                    ts.counts.reflection += 1;
+                    l += cr * kr * Self::li(tr, &Ray::new(origin, wr), depth + 1, ts).color;
+                }
+                l
+            }
+            Material::Dielectric { ior, tint } => {
+                if REFRACT {
+                    Self::dielectric(tr, sh, wo, ior, tint, depth, ts)
+                } else {
+                    // The plan leaves refraction out only when max_depth is 0
+                    // (or no dielectric is in use): glass is then black, as at
+                    // the end of any ray tree.
+                    Rgb::ZERO
+                }
+            }
+            Material::Emissive { color, strength } => color * strength,
+        };
+        Li {
+            color,
+            t,
+            hit: true,
+        }
+    }
+}
+
+/// Turns the geometric normal to the side of `wo` and the shading normal
+/// with it (opaque surfaces are two-sided).
+#[inline]
+fn face_forward(ng: Vec3, ns: Vec3, wo: Vec3) -> (Vec3, Vec3) {
+    if ng.dot(wo) < 0.0 {
+        (-ng, -ns)
+    } else {
+        (ng, ns)
+    }
+}
+
+/// The parameter end of a shadow ray towards a point light at `t = 1`:
+/// just short of it by a bound on the rounding of the ray (no fixed epsilon).
+#[inline]
+fn point_shadow_t_max() -> Real {
+    1.0 - gamma(16)
+}
+
+impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Whitted<SHADOWS, REFLECT, REFRACT> {
+    /// Ambient plus direct lighting with Suffern's BRDFs: Lambert `kd·cd/π`
+    /// and, with `spec = (ks·cs, exp)`, the glossy `ks·cs·(r·wo)^exp`; each
+    /// light contributes `f · L · cos θ`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn direct<A>(
+        tr: &Tracer<'_, A>,
+        sp: &SurfacePoint,
+        ng: Vec3,
+        ns: Vec3,
+        wo: Vec3,
+        ambient: Rgb,
+        diffuse: Rgb,
+        spec: Option<(Rgb, f32)>,
+        ts: &mut ThreadState<A::Scratch>,
+    ) -> Rgb
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+    {
+        let mut l = ambient * tr.data.ambient;
+        if diffuse == Rgb::ZERO && spec.is_none() {
+            return l;
+        }
+        for light in &tr.data.lights {
+            let (wi, radiance) = match *light {
+                DirectLight::Point {
+                    position,
+                    radiance,
+                    inverse_square,
+                    ..
+                } => {
+                    let to = position - sp.p;
+                    let d2 = to.dot(to);
+                    let wi = to / d2.sqrt();
+                    let radiance = if inverse_square {
+                        radiance / to_f32(d2)
+                    } else {
+                        radiance
+                    };
+                    (wi, radiance)
+                }
+                DirectLight::Directional { dir, radiance, .. } => (dir, radiance),
+            };
+            let cos = ns.dot(wi);
+            if !(cos > 0.0) {
+                continue;
+            }
+            if SHADOWS {
+                let (casts, shadow) = match *light {
+                    DirectLight::Point {
+                        position, shadows, ..
+                    } => {
+                        let o = offset_ray_origin(sp.p, sp.p_err, ng, wi);
+                        (shadows, (Ray::new(o, position - o), point_shadow_t_max()))
+                    }
+                    DirectLight::Directional { shadows, .. } => {
+                        let o = offset_ray_origin(sp.p, sp.p_err, ng, wi);
+                        (shadows, (Ray::new(o, wi), Real::INFINITY))
+                    }
+                };
+                if casts {
+                    ts.counts.shadow += 1;
+                    if tr.occluded(&shadow.0, shadow.1, &mut ts.scratch) {
+                        continue;
+                    }
+                }
+            }
+            let mut f = diffuse;
+            if let Some((ks, exp)) = spec {
+                let r = reflect(wi, ns);
+                let rdotwo = r.dot(wo);
+                if rdotwo > 0.0 {
+                    f += ks * to_f32(rdotwo).powf(exp);
+                }
+            }
+            l += f * radiance * to_f32(cos);
+        }
+        l
+    }
+
+    /// A smooth dielectric: Fresnel-weighted reflection and refraction,
+    /// total internal reflection, radiance scaled by `1/η²` on refraction
+    /// (Suffern's `FresnelTransmitter`) and Beer's law inside.
+    #[inline]
+    fn dielectric<A>(
+        tr: &Tracer<'_, A>,
+        sh: &Shading,
+        wo: Vec3,
+        ior: f32,
+        tint: Rgb,
+        depth: u32,
+        ts: &mut ThreadState<A::Scratch>,
+    ) -> Rgb
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+    {
+        if depth >= tr.data.max_depth {
+            return Rgb::ZERO;
+        }
+        let ior = ior as Real;
+        let entering = sh.ns.dot(wo) > 0.0;
+        // Normals on the side of wo; eta = η_far / η_near.
+        let (ns, ng, eta) = if entering {
+            (sh.ns, sh.sp.n, ior)
+        } else {
+            (-sh.ns, -sh.sp.n, 1.0 / ior)
+        };
+        let cos_i = ns.dot(wo);
+        let fr = to_f32(fresnel_dielectric(cos_i, eta));
+        // Beer's law for the part of a ray that runs inside.
+        let absorb = |li: Li| -> Rgb {
+            if tint == Rgb::ONE {
+                li.color
+            } else {
+                li.color * tint.powf(to_f32(li.t))
+            }
+        };
+        let mut l = Rgb::ZERO;
+        if REFLECT && fr > 0.0 {
+            let wr = reflect(wo, ns);
+            let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wr);
+            ts.counts.reflection += 1;
+            let li = Self::li(tr, &Ray::new(origin, wr), depth + 1, ts);
+            // A reflection from the inside stays inside.
+            l += fr * if entering { li.color } else { absorb(li) };
+        }
+        if fr < 1.0 {
+            if let Some(wt) = refract(wo, ns, eta) {
+                let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wt);
+                ts.counts.refraction += 1;
+                let li = Self::li(tr, &Ray::new(origin, wt), depth + 1, ts);
+                let scale = (1.0 - fr) / to_f32(eta * eta);
+                l += scale * if entering { absorb(li) } else { li.color };
+            }
+        }
+        l
+    }
+}

@@ -1,0 +1,539 @@
+//! From a [`Scene`] to what the renderer runs: validation, the primitives
+//! for the accelerator, and the shading data.
+
+use crate::camera::CameraModel;
+use crate::error::SceneError;
+use crate::float::to_f64;
+use crate::integrator::{DirectLight, MeshRef, MeshShading, PrimMaterials, SceneData};
+use crate::plan::EffectPlan;
+use crate::scene::{Geometry, Light, Material, MaterialId, Rgb, Scene};
+use crate::shapes::{Cuboid, Plane, Shape, Sphere, Triangle};
+use gridrt_bbox::Vec3;
+
+/// The largest image, in pixels, the renderer accepts (8192 × 8192).
+pub const MAX_PIXELS: u64 = 1 << 26;
+
+/// The grid primitives of a scene: spheres only gets the compact type.
+#[derive(Debug)]
+pub(crate) enum Prims {
+    Spheres(Vec<Sphere>),
+    Shapes(Vec<Shape>),
+}
+
+impl Prims {
+    pub(crate) fn len(&self) -> usize {
+        match self {
+            Prims::Spheres(v) => v.len(),
+            Prims::Shapes(v) => v.len(),
+        }
+    }
+}
+
+/// A validated scene, ready for an accelerator to be built over `prims`.
+#[derive(Debug)]
+pub(crate) struct Prepared {
+    pub data: SceneData,
+    pub prims: Prims,
+    pub camera: CameraModel,
+    pub plan: EffectPlan,
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+}
+
+fn color_ok(c: Rgb) -> bool {
+    c.is_finite() && c.cmpge(Rgb::ZERO).all()
+}
+
+fn coef_ok(k: f32) -> bool {
+    k.is_finite() && k >= 0.0
+}
+
+fn check_material(i: usize, m: &Material) -> Result<(), SceneError> {
+    let bad = |reason| Err(SceneError::BadMaterial { material: i, reason });
+    match *m {
+        Material::Matte { color, ka, kd } => {
+            if !color_ok(color) {
+                return bad("the colour must be finite and ≥ 0 in every channel");
+            }
+            if !coef_ok(ka) || !coef_ok(kd) {
+                return bad("ka and kd must be finite and ≥ 0");
+            }
+        }
+        Material::Phong {
+            color,
+            ka,
+            kd,
+            ks,
+            exp,
+            specular,
+        } => {
+            if !color_ok(color) || !color_ok(specular) {
+                return bad("the colours must be finite and ≥ 0 in every channel");
+            }
+            if ![ka, kd, ks, exp].into_iter().all(coef_ok) {
+                return bad("ka, kd, ks and exp must be finite and ≥ 0");
+            }
+        }
+        Material::Reflective {
+            color,
+            ka,
+            kd,
+            ks,
+            exp,
+            kr,
+            reflect,
+        } => {
+            if !color_ok(color) || !color_ok(reflect) {
+                return bad("the colours must be finite and ≥ 0 in every channel");
+            }
+            if ![ka, kd, ks, exp, kr].into_iter().all(coef_ok) {
+                return bad("ka, kd, ks, exp and kr must be finite and ≥ 0");
+            }
+        }
+        Material::Dielectric { ior, tint } => {
+            if !(ior.is_finite() && ior > 0.0) {
+                return bad("the index of refraction must be finite and > 0 (glass is about 1.5)");
+            }
+            if !color_ok(tint) {
+                return bad("the tint must be finite and ≥ 0 in every channel (white = clear)");
+            }
+        }
+        Material::Emissive { color, strength } => {
+            if !color_ok(color) || !coef_ok(strength) {
+                return bad("the colour and strength must be finite and ≥ 0");
+            }
+        }
+    }
+    Ok(())
+}
+
+fn check_light(i: usize, l: &Light) -> Result<(), SceneError> {
+    let bad = |reason| Err(SceneError::BadLight { light: i, reason });
+    let (color, intensity) = match *l {
+        Light::Ambient { color, intensity } => (color, intensity),
+        Light::Point {
+            position,
+            color,
+            intensity,
+            ..
+        } => {
+            if !position.is_finite() {
+                return bad("the position is not finite; give finite coordinates");
+            }
+            (color, intensity)
+        }
+        Light::Directional {
+            direction,
+            color,
+            intensity,
+            ..
+        } => {
+            if !direction.is_finite() || direction.try_normalize().is_none() {
+                return bad("the direction is zero or not finite; give the (non-zero) direction towards the light");
+            }
+            (color, intensity)
+        }
+    };
+    if !color_ok(color) || !coef_ok(intensity) {
+        return bad("the colour and intensity must be finite and ≥ 0");
+    }
+    Ok(())
+}
+
+/// Many spheres that share one material, given as arrays rather than as
+/// [`Scene`] objects: 16 bytes per sphere (`f32`) plus 12 per colour instead
+/// of an object and a material each. It is how huge sphere scenes (Suffern's
+/// benchmark with a million spheres) are built and rendered without the
+/// memory traffic of a million `Object`s; see [`crate::Renderer::with_spheres`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SphereSet {
+    /// The spheres (radius > 0, finite).
+    pub spheres: Vec<Sphere>,
+    /// Empty, or one colour per sphere that replaces the albedo (`color`) of
+    /// the material when it is Matte, Phong or Reflective.
+    pub colors: Vec<Rgb>,
+    /// Index into [`Scene::materials`] shared by all the spheres.
+    pub material: MaterialId,
+}
+
+/// Validates the scene (and the sphere set, which comes after the scene's
+/// objects in primitive order) and converts it. Triangles of zero area are
+/// left out of the grid (they can never be hit).
+pub(crate) fn prepare(scene: &Scene, set: Option<SphereSet>) -> Result<Prepared, SceneError> {
+    let (count, all_spheres) = validate(scene, set.as_ref())?;
+    let plan = EffectPlan::derive(scene, set.as_ref().map(|s| (s.spheres.len(), s.material)));
+    let s = &scene.settings;
+    let camera = CameraModel::new(&scene.camera, s.width, s.height)?;
+    let mut data = shading_data(scene, &plan);
+    let prims = convert(scene, set, count, all_spheres, &mut data);
+    Ok(Prepared {
+        data,
+        prims,
+        camera,
+        plan,
+        width: s.width,
+        height: s.height,
+        spp: s.spp,
+    })
+}
+
+/// Checks everything; returns the number of grid primitives and whether
+/// they are all spheres.
+fn validate(scene: &Scene, set: Option<&SphereSet>) -> Result<(usize, bool), SceneError> {
+    let s = &scene.settings;
+    if s.width == 0 || s.height == 0 {
+        return Err(SceneError::EmptyImage {
+            width: s.width,
+            height: s.height,
+        });
+    }
+    if u64::from(s.width) * u64::from(s.height) > MAX_PIXELS {
+        return Err(SceneError::ImageTooLarge {
+            width: s.width,
+            height: s.height,
+            max: MAX_PIXELS,
+        });
+    }
+    if s.spp == 0 {
+        return Err(SceneError::ZeroSamples);
+    }
+    if !s.background.is_finite() {
+        return Err(SceneError::SettingNotFinite { what: "background" });
+    }
+    CameraModel::new(&scene.camera, s.width, s.height)?;
+    for (i, m) in scene.materials.iter().enumerate() {
+        check_material(i, m)?;
+    }
+    for (i, l) in scene.lights.iter().enumerate() {
+        check_light(i, l)?;
+    }
+
+    // Validate objects and count primitives.
+    let mut all_spheres = true;
+    let mut count = 0usize;
+    for (i, o) in scene.objects.iter().enumerate() {
+        if o.material as usize >= scene.materials.len() {
+            return Err(SceneError::MaterialOutOfRange {
+                object: i,
+                material: o.material,
+                count: scene.materials.len(),
+            });
+        }
+        match &o.geometry {
+            Geometry::Sphere { center, radius } => {
+                if !center.is_finite() {
+                    return Err(SceneError::NotFinite {
+                        object: i,
+                        what: "sphere centre",
+                    });
+                }
+                if !(*radius > 0.0 && radius.is_finite()) {
+                    return Err(SceneError::BadRadius {
+                        object: i,
+                        radius: to_f64(*radius),
+                    });
+                }
+                count += 1;
+            }
+            Geometry::Cuboid { min, max } => {
+                if !min.is_finite() || !max.is_finite() {
+                    return Err(SceneError::NotFinite {
+                        object: i,
+                        what: "box corner",
+                    });
+                }
+                if min.cmpgt(*max).any() {
+                    return Err(SceneError::InvertedCuboid { object: i });
+                }
+                all_spheres = false;
+                count += 1;
+            }
+            Geometry::Plane { point, normal } => {
+                if !point.is_finite() || !normal.is_finite() {
+                    return Err(SceneError::NotFinite {
+                        object: i,
+                        what: "plane point or normal",
+                    });
+                }
+                if normal.try_normalize().is_none() {
+                    return Err(SceneError::ZeroNormal { object: i });
+                }
+            }
+            Geometry::Mesh(m) => {
+                let nv = m.positions.len();
+                let name = || m.name.clone();
+                for (attribute, n) in [("normals", m.normals.len()), ("uvs", m.uvs.len())] {
+                    if n != 0 && n != nv {
+                        return Err(SceneError::MeshAttributeCount {
+                            object: i,
+                            mesh: name(),
+                            attribute,
+                            count: n,
+                            vertices: nv,
+                        });
+                    }
+                }
+                for (attribute, list) in [("position", &m.positions), ("normal", &m.normals)] {
+                    if let Some(v) = list.iter().position(|p| !p.is_finite()) {
+                        return Err(SceneError::MeshNotFinite {
+                            object: i,
+                            mesh: name(),
+                            attribute,
+                            vertex: v,
+                        });
+                    }
+                }
+                for (t, tri) in m.triangles.iter().enumerate() {
+                    if let Some(&index) = tri.iter().find(|&&k| k as usize >= nv) {
+                        return Err(SceneError::MeshIndexOutOfRange {
+                            object: i,
+                            mesh: name(),
+                            triangle: t,
+                            index,
+                            vertices: nv,
+                        });
+                    }
+                }
+                all_spheres = false;
+                count += m.triangles.len();
+            }
+        }
+    }
+    if let Some(set) = set {
+        check_set(scene, set)?;
+        count += set.spheres.len();
+    }
+    if count > u32::MAX as usize {
+        return Err(SceneError::TooManyPrimitives { count });
+    }
+    Ok((count, all_spheres))
+}
+
+fn check_set(scene: &Scene, set: &SphereSet) -> Result<(), SceneError> {
+    let object = scene.objects.len();
+    if set.material as usize >= scene.materials.len() {
+        return Err(SceneError::MaterialOutOfRange {
+            object,
+            material: set.material,
+            count: scene.materials.len(),
+        });
+    }
+    if !set.colors.is_empty() && set.colors.len() != set.spheres.len() {
+        return Err(SceneError::SphereSetColors {
+            colors: set.colors.len(),
+            spheres: set.spheres.len(),
+        });
+    }
+    for (i, s) in set.spheres.iter().enumerate() {
+        if !s.center.is_finite() {
+            return Err(SceneError::NotFinite {
+                object: object + i,
+                what: "sphere centre",
+            });
+        }
+        if !(s.radius > 0.0 && s.radius.is_finite()) {
+            return Err(SceneError::BadRadius {
+                object: object + i,
+                radius: to_f64(s.radius),
+            });
+        }
+    }
+    if set.colors.iter().any(|c| !color_ok(*c)) {
+        return Err(SceneError::BadMaterial {
+            material: set.material as usize,
+            reason: "a sphere-set colour is negative or not finite",
+        });
+    }
+    Ok(())
+}
+
+/// The albedo of a material, as a per-primitive colour table records it.
+fn albedo(m: &Material) -> Rgb {
+    match *m {
+        Material::Matte { color, .. }
+        | Material::Phong { color, .. }
+        | Material::Reflective { color, .. } => color,
+        Material::Dielectric { .. } | Material::Emissive { .. } => Rgb::ONE,
+    }
+}
+
+/// Materials, lights and background for shading.
+fn shading_data(scene: &Scene, plan: &EffectPlan) -> SceneData {
+    let mut data = SceneData {
+        materials: scene.materials.clone(),
+        background: scene.settings.background,
+        max_depth: plan.max_depth,
+        ..SceneData::default()
+    };
+    for l in &scene.lights {
+        match *l {
+            Light::Ambient { color, intensity } => data.ambient += color * intensity,
+            Light::Point {
+                position,
+                color,
+                intensity,
+                inverse_square,
+                shadows,
+            } => data.lights.push(DirectLight::Point {
+                position,
+                radiance: color * intensity,
+                inverse_square,
+                shadows: shadows && plan.shadows,
+            }),
+            Light::Directional {
+                direction,
+                color,
+                intensity,
+                shadows,
+            } => data.lights.push(DirectLight::Directional {
+                dir: direction.normalize(),
+                radiance: color * intensity,
+                shadows: shadows && plan.shadows,
+            }),
+        }
+    }
+    if plan.direct_lights == 0 {
+        // Nothing reacts to them: no light loop at all.
+        data.lights.clear();
+    }
+    // Lights of zero radiance only cost time.
+    data.lights.retain(|l| match *l {
+        DirectLight::Point { radiance, .. } | DirectLight::Directional { radiance, .. } => {
+            radiance != Rgb::ZERO
+        }
+    });
+
+    data
+}
+
+/// Fills `data` with the primitives' materials and returns the primitives.
+fn convert(scene: &Scene, set: Option<SphereSet>, count: usize, all_spheres: bool, data: &mut SceneData) -> Prims {
+    let set_material = set.as_ref().map(|s| s.material);
+    let set_len = set.as_ref().map_or(0, |s| s.spheres.len());
+    let set_colors = set.as_ref().is_some_and(|s| !s.colors.is_empty());
+    // One material for every primitive: no per-primitive table.
+    let mut materials = scene
+        .objects
+        .iter()
+        .filter(|o| !matches!(o.geometry, Geometry::Plane { .. }))
+        .map(|o| o.material)
+        .chain(set_material.filter(|_| set_len > 0));
+    let uniform = match materials.next() {
+        None => Some(0),
+        Some(first) => materials.all(|m| m == first).then_some(first),
+    };
+    let mut per_prim = Vec::new();
+    if uniform.is_none() {
+        per_prim.reserve(count);
+    }
+    let mut albedos = Vec::new();
+    if set_colors && count > set_len {
+        albedos.reserve(count);
+    }
+    let smooth = scene
+        .objects
+        .iter()
+        .any(|o| matches!(&o.geometry, Geometry::Mesh(m) if !m.normals.is_empty()));
+    let mut record = |material: u32, mesh: MeshRef, data: &mut SceneData| {
+        if uniform.is_none() {
+            per_prim.push(material);
+        }
+        if set_colors {
+            albedos.push(albedo(&scene.materials[material as usize]));
+        }
+        if smooth {
+            data.prim_mesh.push(mesh);
+        }
+    };
+    for o in &scene.objects {
+        if let Geometry::Plane { point, normal } = o.geometry {
+            data.planes.push(Plane::new(point, normal));
+            data.plane_material.push(o.material);
+        }
+    }
+    let prims = if all_spheres {
+        let mut spheres = Vec::new();
+        for o in &scene.objects {
+            if let Geometry::Sphere { center, radius } = o.geometry {
+                spheres.push(Sphere::new(center, radius));
+                record(o.material, MeshRef::NONE, data);
+            }
+        }
+        if let Some(set) = set {
+            // Take the set's vectors as they are when nothing comes before
+            // them: no copy of a million spheres.
+            if spheres.is_empty() {
+                spheres = set.spheres;
+            } else {
+                spheres.extend_from_slice(&set.spheres);
+            }
+            if albedos.is_empty() {
+                albedos = set.colors;
+            } else {
+                albedos.extend_from_slice(&set.colors);
+            }
+            if uniform.is_none() {
+                per_prim.resize(count, set.material);
+            }
+        }
+        Prims::Spheres(spheres)
+    } else {
+        let mut shapes = Vec::with_capacity(count);
+        for o in &scene.objects {
+            match &o.geometry {
+                Geometry::Sphere { center, radius } => {
+                    shapes.push(Sphere::new(*center, *radius).into());
+                    record(o.material, MeshRef::NONE, data);
+                }
+                Geometry::Cuboid { min, max } => {
+                    shapes.push(Cuboid::new(*min, *max).into());
+                    record(o.material, MeshRef::NONE, data);
+                }
+                Geometry::Plane { .. } => {}
+                Geometry::Mesh(m) => {
+                    let mesh_id = if m.normals.is_empty() {
+                        u32::MAX
+                    } else {
+                        data.meshes.push(MeshShading {
+                            normals: m.normals.clone(),
+                            triangles: m.triangles.clone(),
+                        });
+                        (data.meshes.len() - 1) as u32
+                    };
+                    for (t, &[a, b, c]) in m.triangles.iter().enumerate() {
+                        let p = |k: u32| -> Vec3 { m.positions[k as usize] };
+                        let tri = Triangle::new(p(a), p(b), p(c));
+                        if tri.is_degenerate() {
+                            continue;
+                        }
+                        shapes.push(tri.into());
+                        let mesh = MeshRef {
+                            mesh: mesh_id,
+                            tri: t as u32,
+                        };
+                        record(o.material, mesh, data);
+                    }
+                }
+            }
+        }
+        if let Some(set) = set {
+            let n = set.spheres.len();
+            shapes.extend(set.spheres.into_iter().map(Shape::from));
+            albedos.extend_from_slice(&set.colors);
+            if uniform.is_none() {
+                per_prim.resize(per_prim.len() + n, set.material);
+            }
+            if smooth {
+                data.prim_mesh.resize(data.prim_mesh.len() + n, MeshRef::NONE);
+            }
+        }
+        Prims::Shapes(shapes)
+    };
+    data.prim_material = match uniform {
+        Some(m) => PrimMaterials::Uniform(m),
+        None => PrimMaterials::PerPrim(per_prim),
+    };
+    data.prim_albedo = albedos;
+    prims
+}

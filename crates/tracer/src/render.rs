@@ -1,0 +1,712 @@
+//! The public render API: options, the prepared [`Renderer`], the
+//! framebuffer and statistics, and the tile loop (parallel with rayon).
+
+use crate::error::{Cancelled, SceneError};
+use crate::integrator::{Found, Integrator, Li, SceneData, Shading, ThreadState, Tracer, Whitted};
+use crate::plan::{EffectPlan, RayCounts};
+use crate::prepare::{prepare, Prepared, Prims, SphereSet};
+use crate::sampler::{cmj, pixel_pattern};
+use crate::scene::{Rgb, Scene};
+use crate::shapes::{Shape, Sphere, Surface};
+use crate::camera::CameraModel;
+use gridrt_bbox::{Ray, Real, Vec3};
+use gridrt_grid::{Accelerator, CellStorage, Exhaustive, Grid, GridConfig, GridStats, Primitive};
+use std::fmt;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+/// Which accelerator answers the ray queries.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum AccelKind {
+    /// The regular grid, configured by [`RenderOptions::grid`] (the
+    /// default; its cell storage is `GridConfig::storage`).
+    #[default]
+    Grid,
+    /// The regular grid with a dense cell table, whatever
+    /// `GridConfig::storage` says.
+    DenseGrid,
+    /// No acceleration: every ray tests every primitive (the baseline).
+    Exhaustive,
+}
+
+/// How to render: accelerator, grid parameters, threads.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderOptions {
+    /// The accelerator.
+    pub accel: AccelKind,
+    /// Grid build parameters. [`AccelKind::Grid`] uses them as given;
+    /// [`AccelKind::DenseGrid`] forces `storage` to [`CellStorage::Dense`].
+    /// With `threads: Some(1)` the build is sequential whatever
+    /// `parallel_build` says.
+    pub grid: GridConfig,
+    /// Worker threads for building and rendering; `None` = all cores.
+    /// The image does not depend on it.
+    pub threads: Option<usize>,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self {
+            accel: AccelKind::Grid,
+            grid: GridConfig::default(),
+            threads: None,
+        }
+    }
+}
+
+/// A rendered image: linear RGB, row-major, row 0 at the **top**.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Framebuffer {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// `width × height` pixels, row 0 first (the top of the image).
+    pub pixels: Vec<Rgb>,
+}
+
+impl Framebuffer {
+    /// A black image.
+    #[must_use]
+    pub fn new(width: u32, height: u32) -> Self {
+        Self {
+            width,
+            height,
+            pixels: vec![Rgb::ZERO; width as usize * height as usize],
+        }
+    }
+
+    /// The pixel in column `x` of row `y` (row 0 at the top).
+    ///
+    /// # Panics
+    /// When `x ≥ width` or `y ≥ height`.
+    #[inline]
+    #[must_use]
+    pub fn get(&self, x: u32, y: u32) -> Rgb {
+        assert!(x < self.width && y < self.height, "pixel ({x}, {y}) outside the image");
+        self.pixels[y as usize * self.width as usize + x as usize]
+    }
+
+    /// The number of pixels with a NaN or infinite channel (0 for a sound
+    /// render).
+    #[must_use]
+    pub fn non_finite_pixels(&self) -> usize {
+        self.pixels.iter().filter(|p| !p.is_finite()).count()
+    }
+}
+
+/// What a render did and how long it took.
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct RenderStats {
+    /// The effects simulated.
+    pub plan: EffectPlan,
+    /// Building the accelerator (and preparing the scene).
+    #[cfg_attr(feature = "serde", serde(serialize_with = "crate::serde_support::duration_secs"))]
+    pub build_time: Duration,
+    /// Rendering the pixels.
+    #[cfg_attr(feature = "serde", serde(serialize_with = "crate::serde_support::duration_secs"))]
+    pub render_time: Duration,
+    /// Rays traced, by kind.
+    pub rays: RayCounts,
+    /// Pixels where at least one camera ray hit something.
+    pub pixels_hit: u64,
+    /// The grid's statistics (`None` for the exhaustive accelerator).
+    #[cfg_attr(feature = "serde", serde(serialize_with = "crate::serde_support::grid_stats"))]
+    pub grid: Option<GridStats>,
+}
+
+impl RenderStats {
+    /// Millions of rays (all kinds) per second of render time.
+    #[must_use]
+    pub fn mrays_per_sec(&self) -> f64 {
+        let s = self.render_time.as_secs_f64();
+        if s > 0.0 {
+            self.rays.total() as f64 / s * 1e-6
+        } else {
+            0.0
+        }
+    }
+}
+
+impl fmt::Display for RenderStats {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "{}", self.plan)?;
+        writeln!(f, "rays        {}", self.rays)?;
+        writeln!(f, "pixels hit  {}", self.pixels_hit)?;
+        if let Some(g) = &self.grid {
+            writeln!(
+                f,
+                "grid        {}×{}×{} cells, {} occupied, {} references ({:.2} per occupied cell, max {}), {:.1} MiB",
+                g.dims[0],
+                g.dims[1],
+                g.dims[2],
+                g.occupied_cells,
+                g.references,
+                g.mean_refs_per_occupied,
+                g.max_refs_per_cell,
+                g.bytes as f64 / (1024.0 * 1024.0)
+            )?;
+        }
+        write!(
+            f,
+            "time        build {:.3} s, render {:.3} s ({:.2} Mrays/s)",
+            self.build_time.as_secs_f64(),
+            self.render_time.as_secs_f64(),
+            self.mrays_per_sec()
+        )
+    }
+}
+
+/// An accelerator over one primitive type.
+#[derive(Debug)]
+#[allow(clippy::large_enum_variant)] // one per renderer
+enum AccelOf<P> {
+    Grid(Grid<P>),
+    Exhaustive(Exhaustive<P>),
+}
+
+/// Runs `$body` with `$a` bound to the concrete accelerator (one
+/// monomorphised copy of the body per accelerator type).
+macro_rules! with_accel {
+    ($accel:expr, |$a:ident| $body:expr) => {
+        match $accel {
+            Accel::Spheres(AccelOf::Grid($a)) => $body,
+            Accel::Spheres(AccelOf::Exhaustive($a)) => $body,
+            Accel::Shapes(AccelOf::Grid($a)) => $body,
+            Accel::Shapes(AccelOf::Exhaustive($a)) => $body,
+        }
+    };
+}
+
+/// The accelerator of a prepared scene: spheres only get the compact
+/// [`Sphere`] primitive, other scenes the [`Shape`] enum.
+#[derive(Debug)]
+enum Accel {
+    Spheres(AccelOf<Sphere>),
+    Shapes(AccelOf<Shape>),
+}
+
+/// A scene prepared for rendering: validated, accelerator built, effect
+/// plan derived. Render it as often as needed.
+#[derive(Debug)]
+pub struct Renderer {
+    accel: Accel,
+    data: SceneData,
+    camera: CameraModel,
+    plan: EffectPlan,
+    width: u32,
+    height: u32,
+    spp: u32,
+    build_time: Duration,
+    grid_stats: Option<GridStats>,
+    prim_count: usize,
+    pool: Pool,
+}
+
+/// The worker threads of a renderer.
+struct Pool {
+    #[cfg(feature = "rayon")]
+    pool: Option<rayon::ThreadPool>,
+}
+
+impl fmt::Debug for Pool {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("Pool")
+    }
+}
+
+impl Pool {
+    /// `None` threads = all cores; 1 thread = no pool (run on the caller).
+    fn new(threads: Option<usize>) -> Self {
+        #[cfg(feature = "rayon")]
+        {
+            let pool = match threads {
+                Some(1) => None,
+                n => rayon::ThreadPoolBuilder::new()
+                    .num_threads(n.unwrap_or(0))
+                    .thread_name(|i| format!("gridrt-{i}"))
+                    .build()
+                    .ok(),
+            };
+            Self { pool }
+        }
+        #[cfg(not(feature = "rayon"))]
+        {
+            let _ = threads;
+            Self {}
+        }
+    }
+
+    /// Runs `f` inside the pool (so rayon calls in it use the pool's threads).
+    fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
+        #[cfg(feature = "rayon")]
+        if let Some(p) = &self.pool {
+            return p.install(f);
+        }
+        f()
+    }
+
+    /// `f` over `items` with one `init()` state per worker (per rayon
+    /// split), in parallel when the pool has threads; results in item order.
+    fn map_init<T, S, R>(
+        &self,
+        items: &[T],
+        init: impl Fn() -> S + Sync + Send,
+        f: impl Fn(&mut S, &T) -> R + Sync + Send,
+    ) -> Vec<R>
+    where
+        T: Sync,
+        R: Send,
+    {
+        #[cfg(feature = "rayon")]
+        if let Some(p) = &self.pool {
+            use rayon::prelude::*;
+            return p.install(|| items.par_iter().map_init(&init, &f).collect());
+        }
+        let mut state = init();
+        items.iter().map(|t| f(&mut state, t)).collect()
+    }
+}
+
+fn build_accel<P: Primitive + Send>(
+    prims: Vec<P>,
+    options: &RenderOptions,
+) -> (AccelOf<P>, Option<GridStats>) {
+    let mut config = options.grid;
+    if options.threads == Some(1) {
+        config.parallel_build = false;
+    }
+    match options.accel {
+        AccelKind::Grid | AccelKind::DenseGrid => {
+            if options.accel == AccelKind::DenseGrid {
+                config.storage = CellStorage::Dense;
+            }
+            let grid = Grid::build(prims, &config);
+            let stats = grid.stats().clone();
+            (AccelOf::Grid(grid), Some(stats))
+        }
+        AccelKind::Exhaustive => (AccelOf::Exhaustive(Exhaustive::new(prims)), None),
+    }
+}
+
+impl Renderer {
+    /// Validates the scene, derives the effect plan and builds the
+    /// accelerator (in parallel when threads allow).
+    ///
+    /// # Errors
+    /// A [`SceneError`] naming the first problem found.
+    pub fn new(scene: &Scene, options: &RenderOptions) -> Result<Renderer, SceneError> {
+        Self::build(scene, None, options)
+    }
+
+    /// Like [`Renderer::new`], with the spheres of `set` added after the
+    /// scene's objects (in primitive order). The set's vector of spheres is
+    /// moved into the accelerator without a copy when the scene has no other
+    /// grid primitives. This is the fast way to render huge sphere scenes
+    /// ([`crate::suffern::renderer`]).
+    ///
+    /// # Errors
+    /// A [`SceneError`] naming the first problem found; sphere `i` of the
+    /// set is reported as object `scene.objects.len() + i`.
+    pub fn with_spheres(
+        scene: &Scene,
+        set: SphereSet,
+        options: &RenderOptions,
+    ) -> Result<Renderer, SceneError> {
+        Self::build(scene, Some(set), options)
+    }
+
+    fn build(
+        scene: &Scene,
+        set: Option<SphereSet>,
+        options: &RenderOptions,
+    ) -> Result<Renderer, SceneError> {
+        let start = Instant::now();
+        let Prepared {
+            data,
+            prims,
+            camera,
+            plan,
+            width,
+            height,
+            spp,
+        } = prepare(scene, set)?;
+        let pool = Pool::new(options.threads);
+        let prim_count = prims.len() + data.planes.len();
+        let (accel, grid_stats) = pool.install(|| match prims {
+            Prims::Spheres(v) => {
+                let (a, s) = build_accel(v, options);
+                (Accel::Spheres(a), s)
+            }
+            Prims::Shapes(v) => {
+                let (a, s) = build_accel(v, options);
+                (Accel::Shapes(a), s)
+            }
+        });
+        Ok(Renderer {
+            accel,
+            data,
+            camera,
+            plan,
+            width,
+            height,
+            spp,
+            build_time: start.elapsed(),
+            grid_stats,
+            prim_count,
+            pool,
+        })
+    }
+
+    /// The effects this renderer simulates.
+    #[must_use]
+    pub fn plan(&self) -> &EffectPlan {
+        &self.plan
+    }
+
+    /// The grid's statistics (`None` for the exhaustive accelerator).
+    #[must_use]
+    pub fn grid_stats(&self) -> Option<&GridStats> {
+        self.grid_stats.as_ref()
+    }
+
+    /// Time spent in [`Renderer::new`]: validation, conversion, accelerator
+    /// build.
+    #[must_use]
+    pub fn build_time(&self) -> Duration {
+        self.build_time
+    }
+
+    /// Primitives: grid primitives (one per sphere, box and non-degenerate
+    /// triangle) plus planes.
+    #[must_use]
+    pub fn primitive_count(&self) -> usize {
+        self.prim_count
+    }
+
+    /// Renders the image. `progress(done, total)` is called (from worker
+    /// threads) after each tile, in pixels. When `cancel` becomes true the
+    /// remaining tiles are skipped and the answer is [`Cancelled`].
+    ///
+    /// # Errors
+    /// [`Cancelled`] when the flag was raised.
+    pub fn render(
+        &self,
+        progress: &(dyn Fn(u64, u64) + Sync),
+        cancel: &AtomicBool,
+    ) -> Result<(Framebuffer, RenderStats), Cancelled> {
+        let start = Instant::now();
+        let job = Job {
+            camera: &self.camera,
+            width: self.width,
+            height: self.height,
+            spp: self.spp,
+            progress,
+            cancel,
+            done: AtomicU64::new(0),
+            pool: &self.pool,
+        };
+        let out = with_accel!(&self.accel, |a| job.run_plan(a, &self.data, &self.plan))?;
+        Ok((
+            out.image,
+            RenderStats {
+                plan: self.plan.clone(),
+                build_time: self.build_time,
+                render_time: start.elapsed(),
+                rays: out.rays,
+                pixels_hit: out.pixels_hit,
+                grid: self.grid_stats.clone(),
+            },
+        ))
+    }
+
+    /// Traces only the camera rays (closest hit, one per pixel through its
+    /// centre, no shading) and counts the pixels that hit something. This is
+    /// the benchmark's "pixels hit", and timing it against
+    /// [`Renderer::render`] splits frame time into traversal and shading.
+    #[must_use]
+    pub fn count_camera_hits(&self) -> u64 {
+        let job = Job {
+            camera: &self.camera,
+            width: self.width,
+            height: self.height,
+            spp: 1,
+            progress: &|_, _| {},
+            cancel: &AtomicBool::new(false),
+            done: AtomicU64::new(0),
+            pool: &self.pool,
+        };
+        let res = with_accel!(&self.accel, |a| job.run::<_, HitOnly, false>(a, &self.data));
+        res.map_or(0, |o| o.pixels_hit)
+    }
+}
+
+/// Renders a scene with the given options: [`Renderer::new`] then
+/// [`Renderer::render`] with no progress report and no cancellation.
+///
+/// # Errors
+/// A [`SceneError`] when the scene is invalid.
+pub fn render(scene: &Scene, options: &RenderOptions) -> Result<(Framebuffer, RenderStats), SceneError> {
+    let r = Renderer::new(scene, options)?;
+    let never = AtomicBool::new(false);
+    // The flag is never raised, so the render cannot be cancelled.
+    let out = r.render(&|_, _| {}, &never);
+    Ok(out.unwrap_or_else(|Cancelled| unreachable!("nothing raises the cancel flag")))
+}
+
+/// An integrator that only finds the closest hit (for
+/// [`Renderer::count_camera_hits`]).
+struct HitOnly;
+
+impl Integrator for HitOnly {
+    const BATCH: bool = false;
+
+    #[inline]
+    fn li<A>(tr: &Tracer<'_, A>, ray: &Ray, _: u32, ts: &mut ThreadState<A::Scratch>) -> Li
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+    {
+        let hit = tr.closest(ray, Real::INFINITY, &mut ts.scratch).is_some();
+        Li {
+            color: Rgb::ZERO,
+            t: 0.0,
+            hit,
+        }
+    }
+
+    fn shade<A>(_: &Tracer<'_, A>, _: &Ray, hit: Option<&Shading>, _: u32, _: &mut ThreadState<A::Scratch>) -> Li
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+    {
+        Li {
+            color: Rgb::ZERO,
+            t: 0.0,
+            hit: hit.is_some(),
+        }
+    }
+}
+
+/// Side of a square tile, in pixels.
+const TILE: u32 = 16;
+
+#[derive(Clone, Copy, Debug)]
+struct Tile {
+    x0: u32,
+    y0: u32,
+    x1: u32,
+    y1: u32,
+}
+
+struct TileOut {
+    tile: Tile,
+    pixels: Vec<Rgb>,
+    rays: RayCounts,
+    hits: u64,
+}
+
+struct Output {
+    image: Framebuffer,
+    rays: RayCounts,
+    pixels_hit: u64,
+}
+
+/// One render: what every tile needs to know.
+struct Job<'a> {
+    camera: &'a CameraModel,
+    width: u32,
+    height: u32,
+    spp: u32,
+    progress: &'a (dyn Fn(u64, u64) + Sync),
+    cancel: &'a AtomicBool,
+    done: AtomicU64,
+    pool: &'a Pool,
+}
+
+impl Job<'_> {
+    /// Picks the specialised render loop for the plan, once: each effect is a
+    /// const parameter, so the loop of a scene without shadows contains no
+    /// shadow code at all. A new effect adds one more `pick` step.
+    fn run_plan<A>(&self, accel: &A, data: &SceneData, plan: &EffectPlan) -> Result<Output, Cancelled>
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+    {
+        if plan.shadows {
+            self.pick_secondary::<A, true>(accel, data, plan)
+        } else {
+            self.pick_secondary::<A, false>(accel, data, plan)
+        }
+    }
+
+    fn pick_secondary<A, const SHADOWS: bool>(
+        &self,
+        accel: &A,
+        data: &SceneData,
+        plan: &EffectPlan,
+    ) -> Result<Output, Cancelled>
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+    {
+        // Refraction always comes with (Fresnel) reflection.
+        match (plan.reflection, plan.refraction) {
+            (false, false) => self.pick_jitter::<A, Whitted<SHADOWS, false, false>>(accel, data, plan),
+            (true, false) => self.pick_jitter::<A, Whitted<SHADOWS, true, false>>(accel, data, plan),
+            (_, true) => self.pick_jitter::<A, Whitted<SHADOWS, true, true>>(accel, data, plan),
+        }
+    }
+
+    fn pick_jitter<A, I>(&self, accel: &A, data: &SceneData, plan: &EffectPlan) -> Result<Output, Cancelled>
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+        I: Integrator,
+    {
+        if plan.jitter {
+            self.run::<A, I, true>(accel, data)
+        } else {
+            self.run::<A, I, false>(accel, data)
+        }
+    }
+
+    fn tiles(&self) -> Vec<Tile> {
+        let mut tiles = Vec::new();
+        for y0 in (0..self.height).step_by(TILE as usize) {
+            for x0 in (0..self.width).step_by(TILE as usize) {
+                tiles.push(Tile {
+                    x0,
+                    y0,
+                    x1: (x0 + TILE).min(self.width),
+                    y1: (y0 + TILE).min(self.height),
+                });
+            }
+        }
+        tiles
+    }
+
+    /// Renders every tile (in parallel when the pool has threads) and
+    /// assembles the image. Per-tile ray counts are summed in tile order.
+    fn run<A, I, const JITTER: bool>(&self, accel: &A, data: &SceneData) -> Result<Output, Cancelled>
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+        I: Integrator,
+    {
+        let tr = Tracer { accel, data };
+        let tiles = self.tiles();
+        let total = u64::from(self.width) * u64::from(self.height);
+        let one = |ts: &mut ThreadState<A::Scratch>, tile: &Tile| -> Option<TileOut> {
+            if self.cancel.load(Ordering::Relaxed) {
+                return None;
+            }
+            let out = self.tile::<A, I, JITTER>(&tr, *tile, ts);
+            let n = out.pixels.len() as u64;
+            let done = self.done.fetch_add(n, Ordering::Relaxed) + n;
+            (self.progress)(done, total);
+            Some(out)
+        };
+        let new_state = || ThreadState {
+            scratch: accel.scratch(),
+            counts: RayCounts::default(),
+        };
+        let outs = self.pool.map_init(&tiles, new_state, one);
+        if self.cancel.load(Ordering::Relaxed) || outs.iter().any(Option::is_none) {
+            return Err(Cancelled);
+        }
+        let mut image = Framebuffer::new(self.width, self.height);
+        let mut rays = RayCounts::default();
+        let mut pixels_hit = 0;
+        for o in outs.into_iter().flatten() {
+            let w = (o.tile.x1 - o.tile.x0) as usize;
+            for (row, y) in (o.tile.y0..o.tile.y1).enumerate() {
+                let start = y as usize * self.width as usize + o.tile.x0 as usize;
+                image.pixels[start..start + w].copy_from_slice(&o.pixels[row * w..(row + 1) * w]);
+            }
+            rays += o.rays;
+            pixels_hit += o.hits;
+        }
+        Ok(Output {
+            image,
+            rays,
+            pixels_hit,
+        })
+    }
+
+    /// One tile. Pixel `(x, y)` of the image (row 0 at the top) is Suffern's
+    /// pixel `(c, r) = (x, height − 1 − y)` (row 0 at the bottom).
+    #[inline(never)]
+    fn tile<A, I, const JITTER: bool>(
+        &self,
+        tr: &Tracer<'_, A>,
+        tile: Tile,
+        ts: &mut ThreadState<A::Scratch>,
+    ) -> TileOut
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+        I: Integrator,
+    {
+        ts.counts = RayCounts::default();
+        let mut pixels = Vec::with_capacity(((tile.x1 - tile.x0) * (tile.y1 - tile.y0)) as usize);
+        let mut hits = 0;
+        for y in tile.y0..tile.y1 {
+            let r = self.height - 1 - y;
+            if JITTER {
+                for x in tile.x0..tile.x1 {
+                    let index = u64::from(y) * u64::from(self.width) + u64::from(x);
+                    let pattern = pixel_pattern(index, 0);
+                    let mut sum = Rgb::ZERO;
+                    let mut hit = false;
+                    for s in 0..self.spp {
+                        let (jx, jy) = cmj(s, self.spp, pattern);
+                        let ray = self.camera.ray(x, r, jx, jy);
+                        ts.counts.camera += 1;
+                        let li = I::li(tr, &ray, 0, ts);
+                        sum += li.color;
+                        hit |= li.hit;
+                    }
+                    pixels.push(sum / self.spp as f32);
+                    hits += u64::from(hit);
+                }
+            } else if I::BATCH {
+                // One row of the tile in three passes: trace every camera
+                // ray, gather the hits' shading data, shade. Gathering in a
+                // tight loop lets the cache misses on per-primitive data
+                // (colours of a million spheres) overlap instead of queueing.
+                const N: usize = TILE as usize;
+                let n = (tile.x1 - tile.x0) as usize;
+                let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); N];
+                let mut found: [Option<Found>; N] = [None; N];
+                for k in 0..n {
+                    rays[k] = self.camera.ray(tile.x0 + k as u32, r, 0.5, 0.5);
+                    found[k] = tr.closest(&rays[k], Real::INFINITY, &mut ts.scratch);
+                }
+                ts.counts.camera += n as u64;
+                let shading: [Option<Shading>; N] =
+                    std::array::from_fn(|k| found[k].map(|f| tr.shading(&rays[k], f)));
+                for k in 0..n {
+                    let li = I::shade(tr, &rays[k], shading[k].as_ref(), 0, ts);
+                    pixels.push(li.color);
+                    hits += u64::from(li.hit);
+                }
+            } else {
+                for x in tile.x0..tile.x1 {
+                    let ray = self.camera.ray(x, r, 0.5, 0.5);
+                    ts.counts.camera += 1;
+                    let li = I::li(tr, &ray, 0, ts);
+                    pixels.push(li.color);
+                    hits += u64::from(li.hit);
+                }
+            }
+        }
+        TileOut {
+            tile,
+            pixels,
+            rays: ts.counts,
+            hits,
+        }
+    }
+}

@@ -1,0 +1,142 @@
+//! Shapes: the primitives the grid holds ([`Sphere`], [`Cuboid`],
+//! [`Triangle`], and their enum [`Shape`]) and the unbounded [`Plane`], which
+//! stays outside the grid.
+//!
+//! Every bounded shape implements [`gridrt_grid::Primitive`] (bounds, closest
+//! hit, any hit, exact box overlap), so any accelerator can hold it. The
+//! renderer also needs, after a hit, the surface point with a bound on its
+//! rounding error and the geometric normal; that is the crate-private
+//! [`Surface`] trait.
+
+mod cuboid;
+mod overlap;
+mod plane;
+mod sphere;
+mod triangle;
+
+pub use cuboid::Cuboid;
+pub use plane::Plane;
+pub use sphere::Sphere;
+pub use triangle::Triangle;
+
+use gridrt_bbox::{Aabb, Ray, Real, Vec3};
+use gridrt_grid::{PrimHit, Primitive};
+
+/// A surface point found by a ray, as shading and secondary rays need it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct SurfacePoint {
+    /// The point (on the surface up to `p_err`).
+    pub p: Vec3,
+    /// A bound, per axis, on the absolute rounding error of `p`.
+    pub p_err: Vec3,
+    /// Unit geometric normal on the shape's front (outward) side.
+    pub n: Vec3,
+}
+
+/// What the renderer asks a primitive after the accelerator found a hit.
+pub(crate) trait Surface: Primitive {
+    /// The surface point of a hit this primitive reported (`t`, and its own
+    /// `u`, `v` from [`Primitive::closest_hit`]).
+    fn surface(&self, ray: &Ray, t: Real, u: Real, v: Real) -> SurfacePoint;
+}
+
+/// The bounded shapes in one enum, for scenes that mix them (static
+/// dispatch, pbrt's `TaggedPointer` idea without the pointer). A scene of
+/// spheres only is rendered with a grid of [`Sphere`] instead, which is more
+/// compact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Shape {
+    /// A sphere.
+    Sphere(Sphere),
+    /// An axis-aligned box.
+    Cuboid(Cuboid),
+    /// A triangle (of a mesh).
+    Triangle(Triangle),
+}
+
+impl Primitive for Shape {
+    #[inline]
+    fn bounds(&self) -> Aabb {
+        match self {
+            Shape::Sphere(s) => s.bounds(),
+            Shape::Cuboid(c) => c.bounds(),
+            Shape::Triangle(t) => t.bounds(),
+        }
+    }
+
+    #[inline]
+    fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
+        match self {
+            Shape::Sphere(s) => s.closest_hit(ray, t_min, t_max),
+            Shape::Cuboid(c) => c.closest_hit(ray, t_min, t_max),
+            Shape::Triangle(t) => t.closest_hit(ray, t_min, t_max),
+        }
+    }
+
+    #[inline]
+    fn any_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> bool {
+        match self {
+            Shape::Sphere(s) => s.any_hit(ray, t_min, t_max),
+            Shape::Cuboid(c) => c.any_hit(ray, t_min, t_max),
+            Shape::Triangle(t) => t.any_hit(ray, t_min, t_max),
+        }
+    }
+
+    #[inline]
+    fn overlaps_box(&self, cell: &Aabb) -> bool {
+        match self {
+            Shape::Sphere(s) => s.overlaps_box(cell),
+            Shape::Cuboid(c) => c.overlaps_box(cell),
+            Shape::Triangle(t) => t.overlaps_box(cell),
+        }
+    }
+}
+
+impl Surface for Shape {
+    #[inline]
+    fn surface(&self, ray: &Ray, t: Real, u: Real, v: Real) -> SurfacePoint {
+        match self {
+            Shape::Sphere(s) => s.surface(ray, t, u, v),
+            Shape::Cuboid(c) => c.surface(ray, t, u, v),
+            Shape::Triangle(tr) => tr.surface(ray, t, u, v),
+        }
+    }
+}
+
+impl From<Sphere> for Shape {
+    fn from(s: Sphere) -> Self {
+        Shape::Sphere(s)
+    }
+}
+
+impl From<Cuboid> for Shape {
+    fn from(c: Cuboid) -> Self {
+        Shape::Cuboid(c)
+    }
+}
+
+impl From<Triangle> for Shape {
+    fn from(t: Triangle) -> Self {
+        Shape::Triangle(t)
+    }
+}
+
+/// `v` with its length set to 1, or `fallback` when `v` is zero or not finite.
+#[inline]
+pub(crate) fn unit_or(v: Vec3, fallback: Vec3) -> Vec3 {
+    v.try_normalize().unwrap_or(fallback)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shape_stays_compact() {
+        // The enum is as large as its largest member (the triangle's three
+        // vertices) plus a tag; keep it that way.
+        let real = std::mem::size_of::<Real>();
+        assert_eq!(std::mem::size_of::<Sphere>(), 4 * real);
+        assert!(std::mem::size_of::<Shape>() <= 9 * real + real.max(4));
+    }
+}

@@ -1,0 +1,277 @@
+//! Suffern's regular-grid benchmark scene (*Ray Tracing from the Ground Up*,
+//! ch. 22, Table 22.1): N random spheres of total volume 0.1 in the cube
+//! `[−1, 1]³`, seen from far away, 400 × 400 pixels, 1 ray per pixel, no
+//! shadows.
+//!
+//! The random numbers come from a portable 64-bit LCG, so the scene is the
+//! same on every platform and matches the Embree peer program
+//! (`shared/peers/embree/embree_bench.c`) draw for draw and bit for bit:
+//! same draw order, same `f32` arithmetic. Its pixels-hit counts are
+//! [`REFERENCE_PIXELS_HIT`].
+//!
+//! ```
+//! use gridrt_tracer::suffern;
+//! let scene = suffern::scene(10);
+//! assert_eq!(scene.objects.len(), 10);
+//! let r = gridrt_tracer::Renderer::new(&scene, &Default::default()).unwrap();
+//! assert_eq!(r.count_camera_hits(), 16972);
+//! ```
+
+use crate::scene::{Camera, Geometry, Light, Material, Object, Projection, Rgb, Scene, Settings};
+use crate::{RenderOptions, Renderer, SceneError, Sphere, SphereSet};
+use gridrt_bbox::{Real, Vec3};
+
+/// The seed of the benchmark scene.
+pub const DEFAULT_SEED: u64 = 15;
+
+/// Pixels hit by camera rays in the benchmark scene (seed 15), from the
+/// Embree peer, for N = 10 … 1,000,000.
+pub const REFERENCE_PIXELS_HIT: [(usize, u64); 6] = [
+    (10, 16_972),
+    (100, 35_175),
+    (1_000, 64_037),
+    (10_000, 100_193),
+    (100_000, 129_241),
+    (1_000_000, 139_028),
+];
+
+/// Image side in pixels.
+pub const RESOLUTION: u32 = 400;
+
+/// The benchmark's random numbers: a 64-bit LCG with Knuth's MMIX constants,
+/// `state ← state · 6364136223846793005 + 1442695040888963407 (mod 2⁶⁴)`,
+/// giving `u = (state >> 40) / 2²⁴` in `[0, 1)` (24 bits, exact in `f32`).
+///
+/// ```
+/// use gridrt_tracer::suffern::Lcg;
+/// let mut rng = Lcg::new(15);
+/// let u = rng.next_f32();
+/// assert!((0.0..1.0).contains(&u));
+/// ```
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Lcg {
+    state: u64,
+}
+
+impl Lcg {
+    /// A generator with the given state.
+    #[must_use]
+    pub const fn new(seed: u64) -> Self {
+        Self { state: seed }
+    }
+
+    /// The next number in `[0, 1)`.
+    #[inline]
+    pub fn next_f32(&mut self) -> f32 {
+        self.state = self
+            .state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (self.state >> 40) as f32 * (1.0 / 16_777_216.0)
+    }
+}
+
+/// The common radius of `n` spheres of total volume 0.1, computed in `f32`
+/// exactly as the book and the Embree peer do:
+/// `powf(0.75 · (0.1 / n) / 3.14159, 0.333333)`.
+///
+/// # Panics
+/// Debug builds assert `n > 0`.
+#[must_use]
+#[allow(clippy::approx_constant)] // the book's 3.14159, on purpose
+pub fn sphere_radius(n: usize) -> f32 {
+    debug_assert!(n > 0, "at least one sphere");
+    let volume = 0.1f32 / n as f32;
+    (0.75f32 * volume / 3.14159f32).powf(0.333_333f32)
+}
+
+/// One sphere of the benchmark.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RandomSphere {
+    /// Centre, uniform in `[−1, 1]³`.
+    pub center: Vec3,
+    /// Radius ([`sphere_radius`]).
+    pub radius: Real,
+    /// Colour: the first three draws.
+    pub color: Rgb,
+}
+
+/// The `n` spheres for a seed: per sphere, three draws for the colour (r, g,
+/// b), then `x, y, z = 1 − 2u`, in that order, in `f32`.
+#[must_use]
+pub fn spheres(n: usize, seed: u64) -> Vec<RandomSphere> {
+    let mut rng = Lcg::new(seed);
+    let radius = sphere_radius(n.max(1)) as Real;
+    (0..n)
+        .map(|_| {
+            let r = rng.next_f32();
+            let g = rng.next_f32();
+            let b = rng.next_f32();
+            let x = 1.0f32 - 2.0f32 * rng.next_f32();
+            let y = 1.0f32 - 2.0f32 * rng.next_f32();
+            let z = 1.0f32 - 2.0f32 * rng.next_f32();
+            RandomSphere {
+                center: Vec3::new(x as Real, y as Real, z as Real),
+                radius,
+                color: Rgb::new(r, g, b),
+            }
+        })
+        .collect()
+}
+
+/// The `n` spheres for a seed as a [`SphereSet`] of material 0 with the
+/// random colours (the same numbers as [`spheres`], without the detour
+/// through a vector of [`RandomSphere`]).
+#[must_use]
+pub fn sphere_set(n: usize, seed: u64) -> SphereSet {
+    let mut rng = Lcg::new(seed);
+    let radius = sphere_radius(n.max(1)) as Real;
+    let mut set = SphereSet {
+        spheres: Vec::with_capacity(n),
+        colors: Vec::with_capacity(n),
+        material: 0,
+    };
+    for _ in 0..n {
+        let r = rng.next_f32();
+        let g = rng.next_f32();
+        let b = rng.next_f32();
+        let x = 1.0f32 - 2.0f32 * rng.next_f32();
+        let y = 1.0f32 - 2.0f32 * rng.next_f32();
+        let z = 1.0f32 - 2.0f32 * rng.next_f32();
+        set.spheres.push(Sphere::new(Vec3::new(x as Real, y as Real, z as Real), radius));
+        set.colors.push(Rgb::new(r, g, b));
+    }
+    set
+}
+
+/// The benchmark scene without its spheres: camera, settings, lights, and
+/// one matte material (white; the spheres' colours replace it), ready for
+/// [`Renderer::with_spheres`] and [`sphere_set`].
+#[must_use]
+pub fn base_scene() -> Scene {
+    let mut scene = scene_with_seed(0, DEFAULT_SEED);
+    scene.materials.push(matte(Rgb::ONE));
+    scene
+}
+
+/// The benchmark prepared for rendering the fast way: [`base_scene`] plus
+/// [`sphere_set`], a grid of compact spheres and one colour per sphere, no
+/// `Object` per sphere. Renders the same image as [`scene`] does.
+///
+/// # Errors
+/// None in practice (the scene is valid); the signature is that of
+/// [`Renderer::with_spheres`].
+pub fn renderer(n: usize, seed: u64, options: &RenderOptions) -> Result<Renderer, SceneError> {
+    Renderer::with_spheres(&base_scene(), sphere_set(n, seed), options)
+}
+
+fn matte(color: Rgb) -> Material {
+    Material::Matte {
+        color,
+        ka: 0.25,
+        kd: 0.75,
+    }
+}
+
+/// The benchmark camera: eye (0, 0, 20) looking at the origin, up +y, view
+/// plane at distance 3600 with pixels of size 1.
+#[must_use]
+pub fn camera() -> Camera {
+    Camera {
+        eye: Vec3::new(0.0, 0.0, 20.0),
+        look_at: Vec3::ZERO,
+        up: Vec3::Y,
+        projection: Projection::ViewPlane {
+            distance: 3600.0,
+            pixel_size: 1.0,
+        },
+    }
+}
+
+/// The whole benchmark scene for `n` spheres with the default seed.
+#[must_use]
+pub fn scene(n: usize) -> Scene {
+    scene_with_seed(n, DEFAULT_SEED)
+}
+
+/// The benchmark scene for `n` spheres and a seed: 400 × 400, 1 spp, the
+/// [`camera`], black background, an ambient light (white, 1) and a
+/// directional light from (−10, 20, 20) of radiance 3 that casts no
+/// shadows; every sphere matte (`ka` 0.25, `kd` 0.75) in its random colour.
+#[must_use]
+pub fn scene_with_seed(n: usize, seed: u64) -> Scene {
+    let spheres = spheres(n, seed);
+    let mut materials = Vec::with_capacity(n);
+    let mut objects = Vec::with_capacity(n);
+    for (i, s) in spheres.iter().enumerate() {
+        materials.push(matte(s.color));
+        objects.push(Object {
+            geometry: Geometry::Sphere {
+                center: s.center,
+                radius: s.radius,
+            },
+            material: i as u32,
+        });
+    }
+    Scene {
+        camera: camera(),
+        settings: Settings {
+            width: RESOLUTION,
+            height: RESOLUTION,
+            spp: 1,
+            max_depth: 0,
+            background: Rgb::ZERO,
+        },
+        materials,
+        lights: vec![
+            Light::Ambient {
+                color: Rgb::ONE,
+                intensity: 1.0,
+            },
+            Light::Directional {
+                direction: Vec3::new(-10.0, 20.0, 20.0),
+                color: Rgb::ONE,
+                intensity: 3.0,
+                shadows: false,
+            },
+        ],
+        objects,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lcg_matches_the_peer() {
+        // state1 = 15·a + c (mod 2^64), computed by hand with u128.
+        let a: u128 = 6_364_136_223_846_793_005;
+        let c: u128 = 1_442_695_040_888_963_407;
+        let s1 = ((15 * a + c) % (1u128 << 64)) as u64;
+        let mut rng = Lcg::new(15);
+        assert_eq!(rng.next_f32(), (s1 >> 40) as f32 / 16_777_216.0);
+    }
+
+    #[test]
+    fn radius_gives_total_volume_0_1() {
+        for n in [10usize, 1000, 1_000_000] {
+            let r = f64::from(sphere_radius(n));
+            let vol = n as f64 * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
+            assert!((vol - 0.1).abs() < 1e-4, "n = {n}: {vol}");
+        }
+    }
+
+    #[test]
+    fn centres_are_in_the_cube() {
+        let s = spheres(1000, DEFAULT_SEED);
+        assert!(s.iter().all(|s| s.center.abs().max_element() <= 1.0));
+        assert!(s.iter().all(|s| s.color.min_element() >= 0.0 && s.color.max_element() < 1.0));
+        // Reproducible.
+        assert_eq!(s, spheres(1000, DEFAULT_SEED));
+        let set = sphere_set(1000, DEFAULT_SEED);
+        for (a, b) in s.iter().zip(set.spheres.iter().zip(&set.colors)) {
+            assert_eq!((a.center, a.radius, a.color), (b.0.center, b.0.radius, *b.1));
+        }
+    }
+}

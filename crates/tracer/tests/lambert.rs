@@ -1,0 +1,141 @@
+//! A Lambertian sphere under one light matches the analytic radiance
+//! `ka·cd·La + kd·cd/π · L · cos θ` pixel by pixel (Suffern's conventions).
+
+use crate::common::*;
+use gridrt_grid::{Real, Vec3};
+use gridrt_tracer::{AccelKind, Light, Projection, Rgb};
+use std::f64::consts::PI;
+
+const CD: [f64; 3] = [0.9, 0.5, 0.2];
+
+fn expected(ka: f64, la: f64, kd: f64, l: f64, cos: f64) -> [f64; 3] {
+    CD.map(|c| ka * c * la + kd * c / PI * l * cos.max(0.0))
+}
+
+fn close(got: Rgb, want: [f64; 3], tol: f64) -> bool {
+    (0..3).all(|i| (f64::from(got[i]) - want[i]).abs() <= tol * (1.0 + want[i].abs()))
+}
+
+#[test]
+fn directional_light_orthographic_camera() {
+    let (w, h) = (48u32, 40u32);
+    let mut s = empty_scene(w, h, Vec3::new(0.0, 0.0, 5.0));
+    s.camera.projection = Projection::Orthographic { height: 2.5 };
+    s.settings.background = Rgb::splat(0.1);
+    let m = material(&mut s, matte(Rgb::new(0.9, 0.5, 0.2), 0.25, 0.75));
+    object(&mut s, sphere(Vec3::ZERO, 1.0), m);
+    let dir = [-1.0f64, 2.0, 1.5];
+    let len = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
+    let l = dir.map(|d| d / len);
+    s.lights = vec![
+        ambient(1.0),
+        directional(Vec3::new(-1.0, 2.0, 1.5), 3.0, true),
+    ];
+    for accel in [AccelKind::Grid, AccelKind::Exhaustive] {
+        let (img, stats) = render_with(&s, &opts(accel, None));
+        // One convex sphere: nothing to shadow, so no shadow rays.
+        assert_eq!(stats.rays.shadow, 0);
+        let px = 2.5 / f64::from(h);
+        let mut checked = 0;
+        for y in 0..h {
+            for x in 0..w {
+                let r = h - 1 - y;
+                let ox = px * (f64::from(x) - f64::from(w) / 2.0 + 0.5);
+                let oy = px * (f64::from(r) - f64::from(h) / 2.0 + 0.5);
+                let d2 = ox * ox + oy * oy;
+                let got = img.get(x, y);
+                if (d2 - 1.0).abs() < 1e-3 {
+                    continue; // the silhouette: hit or miss is a coin toss
+                }
+                if d2 > 1.0 {
+                    assert_eq!(got, Rgb::splat(0.1), "background at ({x}, {y})");
+                    continue;
+                }
+                let n = [ox, oy, (1.0 - d2).sqrt()];
+                let cos = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
+                let want = expected(0.25, 1.0, 0.75, 3.0, cos);
+                assert!(close(got, want, 2e-5), "({x}, {y}): got {got:?}, want {want:?}");
+                checked += 1;
+            }
+        }
+        assert!(checked > 600, "{checked} pixels checked");
+    }
+}
+
+/// Ray/sphere in f64: the nearest t > 0, if the ray is not near grazing.
+fn hit_f64(o: [f64; 3], d: [f64; 3], c: [f64; 3], r: f64) -> Option<f64> {
+    let f = [o[0] - c[0], o[1] - c[1], o[2] - c[2]];
+    let a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    let b = f[0] * d[0] + f[1] * d[1] + f[2] * d[2];
+    let cc = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - r * r;
+    let disc = b * b - a * cc;
+    if disc < 1e-3 * r * r * a {
+        return None;
+    }
+    let t = (-b - disc.sqrt()) / a;
+    (t > 0.0).then_some(t)
+}
+
+#[test]
+fn point_light_inverse_square_view_plane_camera_with_shadow_rays() {
+    let (w, h) = (40u32, 40u32);
+    let mut s = empty_scene(w, h, Vec3::new(0.0, 0.0, 6.0));
+    s.camera.projection = Projection::ViewPlane {
+        distance: 50.0,
+        pixel_size: 0.1,
+    };
+    let m = material(&mut s, matte(Rgb::new(0.9, 0.5, 0.2), 0.0, 0.75));
+    object(&mut s, sphere(Vec3::ZERO, 1.0), m);
+    // A second sphere far behind the eye: it shadows nothing in view, but it
+    // makes the plan cast shadow rays, so the test also proves that a lit
+    // point does not shadow itself (no acne).
+    object(&mut s, sphere(Vec3::new(0.0, 0.0, 30.0), 0.1), m);
+    let light = [2.0f64, 3.0, 4.0];
+    s.lights = vec![Light::Point {
+        position: Vec3::new(2.0, 3.0, 4.0),
+        color: Rgb::ONE,
+        intensity: 30.0,
+        inverse_square: true,
+        shadows: true,
+    }];
+    let (img, stats) = render(&s);
+    assert!(stats.plan.shadows);
+    assert!(stats.rays.shadow > 0);
+    let mut checked = 0;
+    for y in 0..h {
+        for x in 0..w {
+            let r = h - 1 - y;
+            let d = [
+                0.1 * (f64::from(x) - 20.0 + 0.5),
+                0.1 * (f64::from(r) - 20.0 + 0.5),
+                -50.0,
+            ];
+            let o = [0.0, 0.0, 6.0];
+            let got = img.get(x, y);
+            let Some(t) = hit_f64(o, d, [0.0; 3], 1.0) else {
+                continue;
+            };
+            let p = [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]];
+            let to = [light[0] - p[0], light[1] - p[1], light[2] - p[2]];
+            let dist2 = to[0] * to[0] + to[1] * to[1] + to[2] * to[2];
+            let cos = (p[0] * to[0] + p[1] * to[1] + p[2] * to[2]) / dist2.sqrt();
+            let want = expected(0.0, 0.0, 0.75, 30.0 / dist2, cos);
+            assert!(close(got, want, 1e-4), "({x}, {y}): got {got:?}, want {want:?}");
+            checked += 1;
+        }
+    }
+    assert!(checked > 400, "{checked} pixels checked");
+}
+
+#[test]
+fn suffern_convention_radiance_3_kd_075() {
+    // Straight on, light from the camera: cos θ = 1 at the centre pixel.
+    let mut s = empty_scene(1, 1, Vec3::new(0.0, 0.0, 5.0));
+    s.camera.projection = Projection::Orthographic { height: 0.01 };
+    let m = material(&mut s, matte(Rgb::new(0.9, 0.5, 0.2), 0.25, 0.75));
+    object(&mut s, sphere(Vec3::ZERO, 1.0 as Real), m);
+    s.lights = vec![directional(Vec3::Z, 3.0, false)];
+    let (img, _) = render(&s);
+    let want = CD.map(|c| 0.75 * c / PI * 3.0);
+    assert!(close(img.get(0, 0), want, 1e-6), "{:?} vs {want:?}", img.get(0, 0));
+}

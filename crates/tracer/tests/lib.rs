@@ -1,0 +1,17 @@
+//! Cross-module tests of the renderer: analytic radiance, mirrors and glass,
+//! the effect plan, determinism across accelerators and threads, watertight
+//! meshes, precision, the Suffern benchmark counts, errors, cancellation.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+mod common;
+
+mod determinism;
+mod dielectric;
+mod errors;
+mod lambert;
+mod mirror;
+mod plan;
+mod precision;
+mod progress;
+mod suffern;
+mod watertight;
