@@ -33,7 +33,11 @@ impl fmt::Display for BitDiff {
 ///
 /// # Errors
 /// A message when the sizes differ or a row is outside the image.
-pub fn bitwise_diff(a: &Framebuffer, b: &Framebuffer, rows: Option<&[u32]>) -> Result<Option<BitDiff>, String> {
+pub fn bitwise_diff(
+    a: &Framebuffer,
+    b: &Framebuffer,
+    rows: Option<&[u32]>,
+) -> Result<Option<BitDiff>, String> {
     if (a.width, a.height) != (b.width, b.height) {
         return Err(format!(
             "the images differ in size: {}×{} and {}×{}",
@@ -60,7 +64,11 @@ pub fn bitwise_diff(a: &Framebuffer, b: &Framebuffer, rows: Option<&[u32]>) -> R
             return Err(format!("row {y} is outside the {}-row image", a.height));
         }
         let start = y as usize * w;
-        for (x, (p, q)) in a.pixels[start..start + w].iter().zip(&b.pixels[start..start + w]).enumerate() {
+        for (x, (p, q)) in a.pixels[start..start + w]
+            .iter()
+            .zip(&b.pixels[start..start + w])
+            .enumerate()
+        {
             out.compared += 1;
             let (p, q) = (p.to_array(), q.to_array());
             if p.iter().zip(&q).any(|(s, t)| s.to_bits() != t.to_bits()) {
@@ -71,7 +79,11 @@ pub fn bitwise_diff(a: &Framebuffer, b: &Framebuffer, rows: Option<&[u32]>) -> R
                 for (s, t) in p.iter().zip(&q) {
                     let d = (s - t).abs();
                     // NaN propagates on purpose: it is worth seeing.
-                    out.max_abs = if d.is_nan() || out.max_abs.is_nan() { f32::NAN } else { out.max_abs.max(d) };
+                    out.max_abs = if d.is_nan() || out.max_abs.is_nan() {
+                        f32::NAN
+                    } else {
+                        out.max_abs.max(d)
+                    };
                 }
             }
         }
@@ -101,7 +113,10 @@ mod tests {
         let mut b = a.clone();
         b.pixels[5] = Rgb::new(-0.0, 0.0, 0.0);
         let d = bitwise_diff(&a, &b, None).unwrap().unwrap();
-        assert_eq!((d.pixels, d.compared, d.first, d.max_abs), (1, 6, (2, 1), 0.0));
+        assert_eq!(
+            (d.pixels, d.compared, d.first, d.max_abs),
+            (1, 6, (2, 1), 0.0)
+        );
         b.pixels[1] = Rgb::new(0.0, f32::from_bits(1), 0.0);
         let d = bitwise_diff(&a, &b, None).unwrap().unwrap();
         assert_eq!((d.pixels, d.first), (2, (1, 0)));
@@ -123,7 +138,11 @@ mod tests {
         let a = fb(1, 1);
         let mut b = a.clone();
         b.pixels[0] = Rgb::new(f32::NAN, 0.0, 0.0);
-        assert!(bitwise_diff(&a, &b, None).unwrap().unwrap().max_abs.is_nan());
+        assert!(bitwise_diff(&a, &b, None)
+            .unwrap()
+            .unwrap()
+            .max_abs
+            .is_nan());
         assert!(bitwise_diff(&a, &fb(2, 1), None).is_err());
     }
 }

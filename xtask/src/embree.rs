@@ -168,6 +168,7 @@ pub fn version() -> String {
 }
 
 /// Builds the sphere scene; returns it and the `rtcCommitScene` time.
+#[allow(clippy::unnecessary_cast)] // `Real` is f64 with the `f64` feature
 fn build(dev: &Device, spheres: &[Sphere]) -> Result<(Scene, Duration), String> {
     // SAFETY: every handle comes from the device and is checked for errors;
     // the vertex buffer is Embree's own, `4 · n` floats long, and filled
@@ -193,7 +194,12 @@ fn build(dev: &Device, spheres: &[Sphere]) -> Result<(Scene, Duration), String> 
         }
         let xyzr = std::slice::from_raw_parts_mut(buf, 4 * spheres.len());
         for (dst, s) in xyzr.chunks_exact_mut(4).zip(spheres) {
-            dst.copy_from_slice(&[s.center.x as f32, s.center.y as f32, s.center.z as f32, s.radius as f32]);
+            dst.copy_from_slice(&[
+                s.center.x as f32,
+                s.center.y as f32,
+                s.center.z as f32,
+                s.radius as f32,
+            ]);
         }
         rtcCommitGeometry(geom);
         rtcAttachGeometry(scene.0, geom);
@@ -241,6 +247,7 @@ impl Drop for FtzGuard {
 
 /// Traces every pixel centre; per pixel (`r · resolution + c`, r = 0 at the
 /// bottom) the primitive hit or `u32::MAX`.
+#[allow(clippy::unnecessary_cast)] // `Real` is f64 with the `f64` feature
 fn trace(scene: &Scene, resolution: u32, prims: &mut Vec<u32>) {
     let _ftz = FtzGuard::new();
     prims.clear();
@@ -276,7 +283,11 @@ fn trace(scene: &Scene, resolution: u32, prims: &mut Vec<u32>) {
             // SAFETY: a committed scene, an initialised context and an
             // aligned, initialised ray/hit, as rtcIntersect1 requires.
             unsafe { rtcIntersect1(scene.0, &mut ctx, &mut rh) };
-            prims.push(if rh.hit.geom_id == RTC_INVALID_GEOMETRY_ID { u32::MAX } else { rh.hit.prim_id });
+            prims.push(if rh.hit.geom_id == RTC_INVALID_GEOMETRY_ID {
+                u32::MAX
+            } else {
+                rh.hit.prim_id
+            });
         }
     }
 }
@@ -299,7 +310,12 @@ pub struct Measured {
 ///
 /// # Errors
 /// An Embree error as text.
-pub fn measure(dev: &Device, spheres: &[Sphere], resolution: u32, runs: usize) -> Result<Measured, String> {
+pub fn measure(
+    dev: &Device,
+    spheres: &[Sphere],
+    resolution: u32,
+    runs: usize,
+) -> Result<Measured, String> {
     let mut builds = Vec::new();
     let mut scene = None;
     for _ in 0..runs.max(1) {

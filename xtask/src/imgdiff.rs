@@ -37,7 +37,10 @@ impl Diff {
             v.push(format!("RMSE {:.4} > {:.4}", self.rmse, tol.max_rmse));
         }
         if self.max_pixel > tol.max_pixel {
-            v.push(format!("max pixel difference {} > {}", self.max_pixel, tol.max_pixel));
+            v.push(format!(
+                "max pixel difference {} > {}",
+                self.max_pixel, tol.max_pixel
+            ));
         }
         if self.fraction_over > tol.max_fraction_over {
             v.push(format!(
@@ -58,7 +61,11 @@ impl Diff {
 /// # Panics
 /// If the buffers differ in length (callers check sizes first).
 pub fn compare(reference: &[u8], actual: &[u8], threshold: u8, gain: u32) -> (Diff, Vec<u8>) {
-    assert_eq!(reference.len(), actual.len(), "images must be the same size");
+    assert_eq!(
+        reference.len(),
+        actual.len(),
+        "images must be the same size"
+    );
     let mut diff_img = Vec::with_capacity(reference.len());
     let mut sum_sq = 0.0f64;
     let mut max_pixel = 0u8;
@@ -111,7 +118,12 @@ mod tests {
         assert!((d.rmse - (36.0f64 / 12.0).sqrt()).abs() < 1e-12);
         assert_eq!(diff[4], 60);
         assert_eq!(d.violations(&Tolerance::default()).len(), 3);
-        let loose = Tolerance { max_rmse: 2.0, max_pixel: 6, pixel_threshold: 2, max_fraction_over: 0.25 };
+        let loose = Tolerance {
+            max_rmse: 2.0,
+            max_pixel: 6,
+            pixel_threshold: 2,
+            max_fraction_over: 0.25,
+        };
         assert!(d.violations(&loose).is_empty());
     }
 }

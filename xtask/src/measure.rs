@@ -4,7 +4,9 @@
 //! `Renderer`, counting uses the grid's and the exhaustive accelerator's
 //! `closest_hit_counted`.
 
-use gridrt_grid::{Accelerator, Exhaustive, Grid, GridConfig, GridStats, QueryCounters, Ray, Real, Vec3};
+use gridrt_grid::{
+    Accelerator, Exhaustive, Grid, GridConfig, GridStats, QueryCounters, Ray, Real, Vec3,
+};
 use gridrt_tracer::suffern::{self, DEFAULT_SEED};
 use gridrt_tracer::{AccelKind, Framebuffer, RenderOptions, Renderer, Sphere};
 use std::sync::atomic::AtomicBool;
@@ -49,12 +51,16 @@ fn options(accel: AccelKind, grid: GridConfig, threads: usize) -> RenderOptions 
 pub fn grid_run(n: usize, config: GridConfig, threads: usize) -> Result<GridRun, String> {
     let base = suffern::base_scene();
     let (set, generate) = timed(|| suffern::sphere_set(n, DEFAULT_SEED));
-    let (renderer, build) = timed(|| Renderer::with_spheres(&base, set, &options(AccelKind::Grid, config, threads)));
+    let (renderer, build) =
+        timed(|| Renderer::with_spheres(&base, set, &options(AccelKind::Grid, config, threads)));
     let renderer = renderer.map_err(|e| e.to_string())?;
     let never = AtomicBool::new(false);
     let (out, render) = timed(|| renderer.render(&|_, _| {}, &never));
     let (image, stats) = out.map_err(|e| e.to_string())?;
-    let grid = renderer.grid_stats().cloned().ok_or("the grid renderer has no grid statistics")?;
+    let grid = renderer
+        .grid_stats()
+        .cloned()
+        .ok_or("the grid renderer has no grid statistics")?;
     // Free the grid outside the timed region (a million spheres take a while).
     drop(renderer);
     Ok(GridRun {
@@ -72,42 +78,79 @@ pub fn grid_run(n: usize, config: GridConfig, threads: usize) -> Result<GridRun,
 ///
 /// # Errors
 /// The renderer's error as text.
-pub fn trace_only(n: usize, config: GridConfig, runs: usize) -> Result<(Vec<Duration>, u64), String> {
-    let renderer = suffern::renderer(n, DEFAULT_SEED, &options(AccelKind::Grid, config, 1)).map_err(|e| e.to_string())?;
+pub fn trace_only(
+    n: usize,
+    config: GridConfig,
+    runs: usize,
+) -> Result<(Vec<Duration>, u64), String> {
+    let renderer = suffern::renderer(n, DEFAULT_SEED, &options(AccelKind::Grid, config, 1))
+        .map_err(|e| e.to_string())?;
     let hits = renderer.count_camera_hits();
-    let times = (0..runs).map(|_| timed(|| renderer.count_camera_hits()).1).collect();
+    let times = (0..runs)
+        .map(|_| timed(|| renderer.count_camera_hits()).1)
+        .collect();
     Ok((times, hits))
 }
 
-/// One exhaustive run over some rows (all when `rows` is `None`).
+/// One exhaustive run over all rows or a band of rows.
 #[derive(Debug)]
 pub struct ExhaustiveRun {
     /// `Renderer::with_spheres` with `AccelKind::Exhaustive`.
     pub build: Duration,
     /// Rendering the rows.
     pub render: Duration,
-    /// The image (rows not rendered are black).
+    /// The full-size image; rows outside the band are black.
     pub image: Framebuffer,
 }
 
-/// Builds the exhaustive renderer and renders the given rows (y = 0 at the
-/// top; `None`: all).
+/// Builds the exhaustive renderer and renders the whole image, or only its
+/// middle `band` rows (`band` even).
+///
+/// The band is rendered through the public API as an image `band` rows
+/// high with the same camera: Suffern's view plane puts pixel row `r` of an
+/// image `h` high at `y = r − h/2 + 0.5`, so row `r` of the band is row
+/// `r + (height − band)/2` of the full image, bit for bit (same rays, same
+/// shading; the benchmark has 1 sample per pixel). The band is copied into
+/// a black full-size image for comparison.
 ///
 /// # Errors
-/// The renderer's error as text.
-pub fn exhaustive_run(n: usize, threads: usize, rows: Option<&[u32]>) -> Result<ExhaustiveRun, String> {
-    let base = suffern::base_scene();
+/// The renderer's error as text, or a band that is odd or too tall.
+pub fn exhaustive_run(
+    n: usize,
+    threads: usize,
+    band: Option<u32>,
+) -> Result<ExhaustiveRun, String> {
+    let mut base = suffern::base_scene();
+    let (width, height) = (base.settings.width, base.settings.height);
+    if let Some(b) = band {
+        if b % 2 != 0 || b == 0 || b > height || height % 2 != 0 {
+            return Err(format!(
+                "a band of {b} rows cannot be centred in {height} rows"
+            ));
+        }
+        base.settings.height = b;
+    }
     let set = suffern::sphere_set(n, DEFAULT_SEED);
     let opts = options(AccelKind::Exhaustive, GridConfig::default(), threads);
     let (renderer, build) = timed(|| Renderer::with_spheres(&base, set, &opts));
     let renderer = renderer.map_err(|e| e.to_string())?;
     let never = AtomicBool::new(false);
-    let (out, render) = timed(|| match rows {
-        None => renderer.render(&|_, _| {}, &never),
-        Some(rows) => renderer.render_rows(rows, &|_, _| {}, &never),
-    });
-    let (image, _) = out.map_err(|e| e.to_string())?;
-    Ok(ExhaustiveRun { build, render, image })
+    let (out, render) = timed(|| renderer.render(&|_, _| {}, &never));
+    let (part, _) = out.map_err(|e| e.to_string())?;
+    let image = match band {
+        None => part,
+        Some(b) => {
+            let mut full = Framebuffer::new(width, height);
+            let start = ((height - b) / 2 * width) as usize;
+            full.pixels[start..start + part.pixels.len()].copy_from_slice(&part.pixels);
+            full
+        }
+    };
+    Ok(ExhaustiveRun {
+        build,
+        render,
+        image,
+    })
 }
 
 /// The benchmark's camera ray through the centre of pixel (c, r), r = 0 at
@@ -120,7 +163,10 @@ pub fn camera_ray(c: u32, r: u32, resolution: u32) -> Ray {
     let dy = (f64::from(r) - half + 0.5) as Real;
     let dz: Real = -3600.0;
     let inv = 1.0 / (dx * dx + dy * dy + dz * dz).sqrt();
-    Ray::new(Vec3::new(0.0, 0.0, 20.0), Vec3::new(dx * inv, dy * inv, dz * inv))
+    Ray::new(
+        Vec3::new(0.0, 0.0, 20.0),
+        Vec3::new(dx * inv, dy * inv, dz * inv),
+    )
 }
 
 /// What the counting pass found.
@@ -152,7 +198,13 @@ pub fn count_grid(spheres: Vec<Sphere>, config: &GridConfig, resolution: u32) ->
     for r in 0..resolution {
         for c in 0..resolution {
             let ray = camera_ray(c, r, resolution);
-            let hit = grid.closest_hit_counted(&ray, 0.0, Real::INFINITY, &mut scratch, &mut out.counters);
+            let hit = grid.closest_hit_counted(
+                &ray,
+                0.0,
+                Real::INFINITY,
+                &mut scratch,
+                &mut out.counters,
+            );
             out.prims.push(hit.map_or(u32::MAX, |h| h.prim));
         }
     }
@@ -191,34 +243,33 @@ mod tests {
 
     #[test]
     fn grid_and_exhaustive_runs_render_the_same_image() {
-        let g = grid_run(10, GridConfig::default(), 1).unwrap();
-        assert_eq!(g.pixels_hit, 16_972);
-        let rows = [3u32, 200, 399];
-        let e = exhaustive_run(10, 2, Some(&rows)).unwrap();
-        assert_eq!(crate::bitdiff::bitwise_diff(&g.image, &e.image, Some(&rows)), Ok(None));
-        // Rows not asked for stay black.
-        assert!(e.image.pixels[400..800].iter().all(|p| p.to_array() == [0.0; 3]));
-    }
-}
-
-/// TEMPORARY until `Renderer::render_rows` lands in gridrt-tracer: renders
-/// every row.
-trait RenderRowsShim {
-    fn render_rows(
-        &self,
-        rows: &[u32],
-        progress: &(dyn Fn(u64, u64) + Sync),
-        cancel: &AtomicBool,
-    ) -> Result<(Framebuffer, gridrt_tracer::RenderStats), gridrt_tracer::Cancelled>;
-}
-
-impl RenderRowsShim for Renderer {
-    fn render_rows(
-        &self,
-        _rows: &[u32],
-        progress: &(dyn Fn(u64, u64) + Sync),
-        cancel: &AtomicBool,
-    ) -> Result<(Framebuffer, gridrt_tracer::RenderStats), gridrt_tracer::Cancelled> {
-        self.render(progress, cancel)
+        assert_eq!(
+            grid_run(10, GridConfig::default(), 1).unwrap().pixels_hit,
+            16_972
+        );
+        let e = exhaustive_run(100, 2, Some(6)).unwrap();
+        let g = grid_run(100, GridConfig::default(), 2).unwrap();
+        let rows = crate::table::band_rows(6, 400);
+        assert_eq!(rows, vec![197, 198, 199, 200, 201, 202]);
+        assert_eq!(
+            crate::bitdiff::bitwise_diff(&g.image, &e.image, Some(&rows)),
+            Ok(None)
+        );
+        // The band has spheres in it, and the rows outside it stay black.
+        assert!(rows
+            .iter()
+            .any(|&y| g.image.pixels[y as usize * 400..][..400]
+                .iter()
+                .any(|p| p.x > 0.0)));
+        assert!(e.image.pixels[..196 * 400]
+            .iter()
+            .all(|p| p.to_array() == [0.0; 3]));
+        let full = exhaustive_run(10, 1, None).unwrap();
+        let g10 = grid_run(10, GridConfig::default(), 1).unwrap();
+        assert_eq!(
+            crate::bitdiff::bitwise_diff(&g10.image, &full.image, None),
+            Ok(None)
+        );
+        assert!(exhaustive_run(10, 1, Some(5)).is_err());
     }
 }

@@ -22,7 +22,12 @@ pub fn speedup_svg(
         let root = SVGBackend::with_string(&mut svg, (1400, 600)).into_drawing_area();
         root.fill(&WHITE)?;
         let (left, right) = root.split_horizontally(700);
-        panel(&left, "Time vs N, 1 thread (grid: build + render)", "seconds", times)?;
+        panel(
+            &left,
+            "Time vs N, 1 thread (grid: build + render)",
+            "seconds",
+            times,
+        )?;
         panel(&right, "Primitive tests per ray", "tests per ray", tests)?;
         root.present()?;
     }
@@ -36,7 +41,12 @@ fn panel(
     y_desc: &str,
     series: &[Series],
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let all = || series.iter().flat_map(|s| s.points.iter().copied()).filter(|p| p.1 > 0.0);
+    let all = || {
+        series
+            .iter()
+            .flat_map(|s| s.points.iter().copied())
+            .filter(|p| p.1 > 0.0)
+    };
     let (x0, x1) = all().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.0), b.max(p.0)));
     let (y0, y1) = all().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.1), b.max(p.1)));
     if x0 > x1 || y0 > y1 {
@@ -47,7 +57,10 @@ fn panel(
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(70)
-        .build_cartesian_2d((x0 / 1.5..x1 * 1.5).log_scale(), (y0 / 2.0..y1 * 2.0).log_scale())?;
+        .build_cartesian_2d(
+            (x0 / 1.5..x1 * 1.5).log_scale(),
+            (y0 / 2.0..y1 * 2.0).log_scale(),
+        )?;
     chart
         .configure_mesh()
         .x_desc("number of spheres N")
@@ -64,9 +77,13 @@ fn panel(
         } else {
             chart.draw_series(LineSeries::new(pts.clone(), style))?
         };
-        anno.label(s.label.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
-        chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))?;
+        anno.label(s.label.clone()).legend(move |(x, y)| {
+            PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+        });
+        // Markers on measured points only, not on sampled reference curves.
+        if pts.len() <= 12 {
+            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))?;
+        }
     }
     chart
         .configure_series_labels()
@@ -94,7 +111,10 @@ pub fn fit_scale(points: &[(f64, f64)], f: impl Fn(f64) -> f64) -> f64 {
 /// The two panels of `docs/speedup.svg` from a speed-up table: time (1
 /// thread) vs N, ours and the book's, and primitive tests per ray vs N with
 /// the lecture's O(∛n) and O(log n) drawn through our grid's points.
-pub fn speedup_plot(path: &Path, t: &crate::table::Table) -> Result<(), Box<dyn std::error::Error>> {
+pub fn speedup_plot(
+    path: &Path,
+    t: &crate::table::Table,
+) -> Result<(), Box<dyn std::error::Error>> {
     use crate::table::BOOK;
     let blue = RGBColor(31, 119, 180);
     let light_blue = RGBColor(120, 180, 230);
@@ -103,12 +123,17 @@ pub fn speedup_plot(path: &Path, t: &crate::table::Table) -> Result<(), Box<dyn 
     let grey = RGBColor(110, 110, 110);
     let d = t.default_config();
     let ns: Vec<usize> = t.rows.iter().map(|r| r.n).collect();
-    let in_range = |n: usize| ns.first().is_some_and(|&lo| n >= lo) && ns.last().is_some_and(|&hi| n <= hi);
+    let in_range =
+        |n: usize| ns.first().is_some_and(|&lo| n >= lo) && ns.last().is_some_and(|&hi| n <= hi);
 
     let mut times = vec![
         Series {
             label: "book: grid (450 MHz G3)".into(),
-            points: BOOK.iter().filter(|b| in_range(b.n)).map(|b| (b.n as f64, b.grid)).collect(),
+            points: BOOK
+                .iter()
+                .filter(|b| in_range(b.n))
+                .map(|b| (b.n as f64, b.grid))
+                .collect(),
             color: light_blue,
             dashed: true,
         },
@@ -129,16 +154,27 @@ pub fn speedup_plot(path: &Path, t: &crate::table::Table) -> Result<(), Box<dyn 
             points: t
                 .rows
                 .iter()
-                .filter_map(|r| r.grids.get(i).and_then(|g| g.total.first()).map(|&v| (r.n as f64, v)))
+                .filter_map(|r| {
+                    r.grids
+                        .get(i)
+                        .and_then(|g| g.total.first())
+                        .map(|&v| (r.n as f64, v))
+                })
                 .collect(),
             color: if i == d { blue } else { green },
             dashed: false,
         });
     }
-    let est = t.rows.iter().find(|r| r.exhaustive.total.first().is_some_and(|s| s.estimated));
+    let est = t
+        .rows
+        .iter()
+        .find(|r| r.exhaustive.total.first().is_some_and(|s| s.estimated));
     times.push(Series {
         label: match est {
-            Some(r) => format!("gridrt: exhaustive, 1 thread (est. from N = {})", crate::table::count(r.n as u64)),
+            Some(r) => format!(
+                "gridrt: exhaustive, 1 thread (est. from N = {})",
+                crate::table::count(r.n as u64)
+            ),
             None => "gridrt: exhaustive, 1 thread".into(),
         },
         points: t
@@ -158,7 +194,10 @@ pub fn speedup_plot(path: &Path, t: &crate::table::Table) -> Result<(), Box<dyn 
     let cbrt_c = fit_scale(&grid_tests, f64::cbrt);
     let log_c = fit_scale(&grid_tests, f64::ln);
     let curve = |c: f64, f: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> {
-        let (lo, hi) = (ns.first().copied().unwrap_or(1) as f64, ns.last().copied().unwrap_or(1) as f64);
+        let (lo, hi) = (
+            ns.first().copied().unwrap_or(1) as f64,
+            ns.last().copied().unwrap_or(1) as f64,
+        );
         (0..=24)
             .map(|i| lo * (hi / lo).powf(f64::from(i) / 24.0))
             .map(|n| (n, c * f(n)))
@@ -189,7 +228,11 @@ pub fn speedup_plot(path: &Path, t: &crate::table::Table) -> Result<(), Box<dyn 
     });
     tests.push(Series {
         label: "exhaustive: tests per ray (= N)".into(),
-        points: t.rows.iter().map(|r| (r.n as f64, r.exhaustive.tests_per_ray)).collect(),
+        points: t
+            .rows
+            .iter()
+            .map(|r| (r.n as f64, r.exhaustive.tests_per_ray))
+            .collect(),
         color: red,
         dashed: false,
     });
@@ -218,7 +261,10 @@ mod tests {
 
     #[test]
     fn fitted_scale_reproduces_an_exact_law() {
-        let pts: Vec<(f64, f64)> = [10.0, 1000.0, 1e6].iter().map(|&n: &f64| (n, 3.0 * n.cbrt())).collect();
+        let pts: Vec<(f64, f64)> = [10.0, 1000.0, 1e6]
+            .iter()
+            .map(|&n: &f64| (n, 3.0 * n.cbrt()))
+            .collect();
         assert!((fit_scale(&pts, f64::cbrt) - 3.0).abs() < 1e-12);
         assert!(fit_scale(&[], f64::cbrt).is_nan());
     }

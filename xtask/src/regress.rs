@@ -50,7 +50,9 @@ fn scene_files(dir: &Path) -> Result<Vec<(String, PathBuf)>, String> {
     let entries = std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", util::show(dir)))?;
     let mut out = Vec::new();
     for entry in entries {
-        let path = entry.map_err(|e| format!("{}: {e}", util::show(dir)))?.path();
+        let path = entry
+            .map_err(|e| format!("{}: {e}", util::show(dir)))?
+            .path();
         if path.extension().and_then(|e| e.to_str()) == Some("ron") {
             if let Some(stem) = path.file_stem().and_then(|s| s.to_str()) {
                 out.push((stem.to_string(), path.clone()));
@@ -62,15 +64,24 @@ fn scene_files(dir: &Path) -> Result<Vec<(String, PathBuf)>, String> {
 }
 
 /// Picks the scenes asked for (all when `wanted` is empty).
-fn select(all: Vec<(String, PathBuf)>, wanted: &[String]) -> Result<Vec<(String, PathBuf)>, String> {
+fn select(
+    all: Vec<(String, PathBuf)>,
+    wanted: &[String],
+) -> Result<Vec<(String, PathBuf)>, String> {
     if wanted.is_empty() {
         return Ok(all);
     }
     let names: Vec<&str> = all.iter().map(|(n, _)| n.as_str()).collect();
     if let Some(bad) = wanted.iter().find(|w| !names.contains(&w.as_str())) {
-        return Err(format!("no scene \"{bad}\" in fixtures/scenes/; the scenes are: {}", names.join(", ")));
+        return Err(format!(
+            "no scene \"{bad}\" in fixtures/scenes/; the scenes are: {}",
+            names.join(", ")
+        ));
     }
-    Ok(all.into_iter().filter(|(n, _)| wanted.contains(n)).collect())
+    Ok(all
+        .into_iter()
+        .filter(|(n, _)| wanted.contains(n))
+        .collect())
 }
 
 /// One render: framebuffer and wall time (build + render).
@@ -111,21 +122,31 @@ fn configurations(threads: Option<usize>) -> Vec<(&'static str, RenderOptions)> 
         accel: AccelKind::Exhaustive,
         ..base
     };
-    vec![("grid", base), (other_name, other), ("exhaustive", exhaustive)]
+    vec![
+        ("grid", base),
+        (other_name, other),
+        ("exhaustive", exhaustive),
+    ]
 }
 
 /// 8-bit RGB pixels of a PNG file.
 fn read_rgb8(path: &Path) -> Result<(u32, u32, Vec<u8>), String> {
-    let img = image::open(path).map_err(|e| format!("{}: {e}", util::show(path)))?.to_rgb8();
+    let img = image::open(path)
+        .map_err(|e| format!("{}: {e}", util::show(path)))?
+        .to_rgb8();
     Ok((img.width(), img.height(), img.into_raw()))
 }
 
 /// Encodes RGB8 pixels as PNG and writes them atomically.
 fn write_rgb8(path: &Path, width: u32, height: u32, pixels: Vec<u8>) -> Result<(), String> {
-    let img = image::RgbImage::from_raw(width, height, pixels).ok_or("diff image of the wrong size")?;
+    let img =
+        image::RgbImage::from_raw(width, height, pixels).ok_or("diff image of the wrong size")?;
     let mut bytes = Vec::new();
-    img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
-        .map_err(|e| format!("{}: {e}", util::show(path)))?;
+    img.write_to(
+        &mut std::io::Cursor::new(&mut bytes),
+        image::ImageFormat::Png,
+    )
+    .map_err(|e| format!("{}: {e}", util::show(path)))?;
     util::write_atomic(path, &bytes).map_err(|e| format!("{}: {e}", util::show(path)))
 }
 
@@ -171,7 +192,9 @@ pub fn run(args: &Args) -> crate::Outcome {
     let mut reports = Vec::new();
     for (name, path) in &scenes {
         let tolerance = tolerances::of(&tols, name);
-        let rep = run_scene(name, path, &ref_dir, &out_dir, tolerance, &configs, args.bless);
+        let rep = run_scene(
+            name, path, &ref_dir, &out_dir, tolerance, &configs, args.bless,
+        );
         eprintln!("{}", report::line(&rep));
         reports.push(rep);
     }
@@ -179,7 +202,8 @@ pub fn run(args: &Args) -> crate::Outcome {
 
     let html = report::html(&reports, &util::machine(), elapsed, args.bless);
     let index = out_dir.join("index.html");
-    util::write_atomic(&index, html.as_bytes()).map_err(|e| format!("{}: {e}", util::show(&index)))?;
+    util::write_atomic(&index, html.as_bytes())
+        .map_err(|e| format!("{}: {e}", util::show(&index)))?;
 
     // References without a scene (only worth a note: nothing reads them).
     if args.scenes.is_empty() {
@@ -215,8 +239,14 @@ pub fn run(args: &Args) -> crate::Outcome {
     for r in &failed {
         eprintln!("  {}: {}", r.name, r.failures.join("; "));
     }
-    if !args.bless && failed.iter().any(|r| r.diff.is_some() || r.reference.is_none()) {
-        eprintln!("(if a change is intended, look at the report, then run `cargo xtask regress --bless`)");
+    if !args.bless
+        && failed
+            .iter()
+            .any(|r| r.diff.is_some() || r.reference.is_none())
+    {
+        eprintln!(
+            "(if a change is intended, look at the report, then run `cargo xtask regress --bless`)"
+        );
     }
     Ok(false)
 }
@@ -266,11 +296,13 @@ fn check_scene(
     let truth = &renders[renders.len() - 1].fb;
     let bad = renders[0].fb.non_finite_pixels();
     if bad > 0 {
-        rep.failures.push(format!("{bad} pixels are NaN or infinite"));
+        rep.failures
+            .push(format!("{bad} pixels are NaN or infinite"));
     }
     for ((label, _), r) in configs.iter().zip(&renders).take(configs.len() - 1) {
         if let Some(d) = bitwise_diff(&r.fb, truth, None)? {
-            rep.failures.push(format!("{label} and exhaustive differ: {d}"));
+            rep.failures
+                .push(format!("{label} and exhaustive differ: {d}"));
             rep.accel_mismatch.push((label.to_string(), d));
         }
     }
@@ -284,16 +316,19 @@ fn check_scene(
     gridrt_io::write_framebuffer(&actual_path, &renders[0].fb).map_err(|e| e.to_string())?;
     let (w, h, actual) = read_rgb8(&actual_path)?;
     let ref_path = ref_dir.join(format!("{name}.png"));
-    let reference = if ref_path.exists() { Some(read_rgb8(&ref_path)?) } else { None };
+    let reference = if ref_path.exists() {
+        Some(read_rgb8(&ref_path)?)
+    } else {
+        None
+    };
     rep.reference = reference.as_ref().map(|r| (r.0, r.1));
     let mut diff: Option<Diff> = None;
     match &reference {
         None => {}
-        Some((rw, rh, _)) if (*rw, *rh) != (w, h) => {
-            if !bless {
-                rep.failures.push(format!("the reference is {rw}×{rh}, the image {w}×{h}"));
-            }
-        }
+        // A resized scene: nothing to compare (bless rewrites the reference).
+        Some((rw, rh, _)) if (*rw, *rh) != (w, h) => rep
+            .failures
+            .extend((!bless).then(|| format!("the reference is {rw}×{rh}, the image {w}×{h}"))),
         Some((_, _, ref_px)) => {
             std::fs::copy(&ref_path, out_dir.join(format!("{name}-reference.png")))
                 .map_err(|e| format!("{}: {e}", util::show(&ref_path)))?;
@@ -334,8 +369,10 @@ fn check_scene(
         return Ok(());
     }
     if status != BlessStatus::Unchanged {
-        let bytes = std::fs::read(&actual_path).map_err(|e| format!("{}: {e}", util::show(&actual_path)))?;
-        util::write_atomic(&ref_path, &bytes).map_err(|e| format!("{}: {e}", util::show(&ref_path)))?;
+        let bytes = std::fs::read(&actual_path)
+            .map_err(|e| format!("{}: {e}", util::show(&actual_path)))?;
+        util::write_atomic(&ref_path, &bytes)
+            .map_err(|e| format!("{}: {e}", util::show(&ref_path)))?;
         std::fs::copy(&ref_path, out_dir.join(format!("{name}-reference.png")))
             .map_err(|e| format!("{}: {e}", util::show(&ref_path)))?;
     }
@@ -349,7 +386,10 @@ mod tests {
 
     #[test]
     fn selecting_unknown_scenes_names_the_known_ones() {
-        let all = vec![("a".to_string(), PathBuf::from("a.ron")), ("b".to_string(), PathBuf::from("b.ron"))];
+        let all = vec![
+            ("a".to_string(), PathBuf::from("a.ron")),
+            ("b".to_string(), PathBuf::from("b.ron")),
+        ];
         assert_eq!(select(all.clone(), &[]).unwrap().len(), 2);
         assert_eq!(select(all.clone(), &["b".to_string()]).unwrap()[0].0, "b");
         let e = select(all, &["c".to_string()]).unwrap_err();
@@ -376,7 +416,11 @@ mod tests {
             assert_eq!((w, h), (s.width, s.height), "{name}");
         }
         let tols = tolerances::load(&root.join("fixtures/reference/tolerances.ron")).unwrap();
-        let names: Vec<String> = scene_files(&root.join("fixtures/scenes")).unwrap().into_iter().map(|s| s.0).collect();
+        let names: Vec<String> = scene_files(&root.join("fixtures/scenes"))
+            .unwrap()
+            .into_iter()
+            .map(|s| s.0)
+            .collect();
         assert!(tolerances::unknown(&tols, &names).is_empty());
     }
 }

@@ -127,7 +127,11 @@ pub fn bless_summary(reports: &[SceneReport]) -> String {
                 "changed    {}: {} ({} its tolerance)",
                 r.name,
                 diff_phrase(diff),
-                if *within_tolerance { "within" } else { "beyond" }
+                if *within_tolerance {
+                    "within"
+                } else {
+                    "beyond"
+                }
             ),
             Some(BlessStatus::Resized { from }) => format!(
                 "changed    {}: size {}×{} → {}×{}",
@@ -145,7 +149,10 @@ pub fn bless_summary(reports: &[SceneReport]) -> String {
 
 /// Escapes text for HTML.
 pub fn esc(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 /// The HTML report: a summary table, then per scene the reference, actual
@@ -177,14 +184,22 @@ framebuffers must equal the exhaustive one bit for bit.</p>
 "#,
         mode = if bless { " (bless)" } else { "" },
         cls = if failed == 0 { "ok" } else { "fail" },
-        verdict = if failed == 0 { "passed".to_string() } else { format!("{failed} FAILED") },
+        verdict = if failed == 0 {
+            "passed".to_string()
+        } else {
+            format!("{failed} FAILED")
+        },
         n = reports.len(),
         secs = elapsed.as_secs_f64(),
         machine = esc(machine),
         gain = crate::regress::DIFF_GAIN,
     );
     for r in reports {
-        let (cls, res) = if r.failures.is_empty() { ("ok", "pass") } else { ("fail", "FAIL") };
+        let (cls, res) = if r.failures.is_empty() {
+            ("ok", "pass")
+        } else {
+            ("fail", "FAIL")
+        };
         let _ = writeln!(
             h,
             r##"<tr><td><a href="#{id}">{name}</a></td><td>{w}×{hh}</td><td class="{cls}">{res}</td><td>{diff}</td><td>{tol}</td><td>{times}</td></tr>"##,
@@ -199,7 +214,12 @@ framebuffers must equal the exhaustive one bit for bit.</p>
     }
     h.push_str("</table>\n");
     for r in reports {
-        let _ = writeln!(h, r#"<section id="{}"><h2>{}</h2>"#, esc(&r.name), esc(&r.name));
+        let _ = writeln!(
+            h,
+            r#"<section id="{}"><h2>{}</h2>"#,
+            esc(&r.name),
+            esc(&r.name)
+        );
         if !r.failures.is_empty() {
             h.push_str("<ul class=\"fail\">");
             for f in &r.failures {
@@ -245,7 +265,11 @@ framebuffers must equal the exhaustive one bit for bit.</p>
             fig(&mut h, format!("{}-actual.png", r.name), "actual (grid)");
         }
         if r.diff.is_some() {
-            fig(&mut h, format!("{}-diff.png", r.name), &format!("difference × {}", crate::regress::DIFF_GAIN));
+            fig(
+                &mut h,
+                format!("{}-diff.png", r.name),
+                &format!("difference × {}", crate::regress::DIFF_GAIN),
+            );
         }
         if !r.accel_mismatch.is_empty() {
             fig(&mut h, format!("{}-exhaustive.png", r.name), "exhaustive");
@@ -313,7 +337,9 @@ mod tests {
         c.bless = Some(BlessStatus::Unchanged);
         let s = bless_summary(&[a, b, c]);
         assert!(s.contains("new        shadows"));
-        assert!(s.contains("changed    phong: 12 pixels differ, max 3 steps") && s.contains("beyond"));
+        assert!(
+            s.contains("changed    phong: 12 pixels differ, max 3 steps") && s.contains("beyond")
+        );
         assert!(s.contains("unchanged  same"));
     }
 
@@ -326,6 +352,9 @@ mod tests {
             pixel_threshold: 1,
             max_fraction_over: 0.001,
         };
-        assert_eq!(tolerance_phrase(&t), "RMSE ≤ 0.1, max ≤ 2, ≤ 0.1% of pixels over 1");
+        assert_eq!(
+            tolerance_phrase(&t),
+            "RMSE ≤ 0.1, max ≤ 2, ≤ 0.1% of pixels over 1"
+        );
     }
 }

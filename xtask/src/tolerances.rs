@@ -23,8 +23,15 @@ pub type Tolerances = BTreeMap<String, Tolerance>;
 /// message naming the scene for a value out of range (negative, not finite,
 /// or a fraction above 1).
 pub fn parse(text: &str, path: &Path) -> Result<Tolerances, String> {
-    let map: Tolerances = ron::from_str(text)
-        .map_err(|e| format!("{}:{}:{}: {}", path.display(), e.position.line, e.position.col, e.code))?;
+    let map: Tolerances = ron::from_str(text).map_err(|e| {
+        format!(
+            "{}:{}:{}: {}",
+            path.display(),
+            e.position.line,
+            e.position.col,
+            e.code
+        )
+    })?;
     for (name, t) in &map {
         let bad = |what: &str| Err(format!("{}: scene \"{name}\": {what}", path.display()));
         if !(t.max_rmse >= 0.0 && t.max_rmse.is_finite()) {
@@ -56,7 +63,10 @@ pub fn of(map: &Tolerances, scene: &str) -> Tolerance {
 
 /// Entries naming no scene (a renamed or deleted scene leaves them stale).
 pub fn unknown<'a>(map: &'a Tolerances, scenes: &[String]) -> Vec<&'a str> {
-    map.keys().filter(|k| !scenes.contains(k)).map(String::as_str).collect()
+    map.keys()
+        .filter(|k| !scenes.contains(k))
+        .map(String::as_str)
+        .collect()
 }
 
 #[cfg(test)]
@@ -77,7 +87,15 @@ mod tests {
         .unwrap();
         assert_eq!(m.len(), 2);
         let t = of(&m, "phong");
-        assert_eq!((t.max_rmse, t.max_pixel, t.pixel_threshold, t.max_fraction_over), (0.05, 1, 0, 0.001));
+        assert_eq!(
+            (
+                t.max_rmse,
+                t.max_pixel,
+                t.pixel_threshold,
+                t.max_fraction_over
+            ),
+            (0.05, 1, 0, 0.001)
+        );
         assert_eq!(of(&m, "mirror_glass").pixel_threshold, 2);
         assert_eq!(of(&m, "not_listed"), Tolerance::default());
     }
@@ -92,7 +110,9 @@ mod tests {
         let e = p("{\n  \"a\": (max_rsme: 1.0),\n}").unwrap_err();
         assert!(e.starts_with("tol.ron:2:"), "{e}");
         assert!(e.contains("max_rsme"), "{e}");
-        assert!(p(r#"{"a": (max_rmse: -1.0)}"#).unwrap_err().contains("\"a\""));
+        assert!(p(r#"{"a": (max_rmse: -1.0)}"#)
+            .unwrap_err()
+            .contains("\"a\""));
         assert!(p(r#"{"a": (max_fraction_over: 2.0)}"#).is_err());
         assert!(p(r#"{"a": (max_pixel: 300)}"#).is_err());
         assert!(p(r#"{"a": (max_rmse: 1.0)"#).is_err());

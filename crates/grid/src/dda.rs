@@ -50,6 +50,9 @@ pub(crate) trait CellLookup<'a> {
     fn step(st: &[u64; 3], key: u64, axis: usize) -> u64;
     /// The references of the cell with this key (empty if unoccupied).
     fn refs(&self, key: u64) -> &'a [u32];
+    /// Whether the cell with this key holds references: one bit per key,
+    /// far smaller than the cell table, so that empty cells cost no miss.
+    fn occupied(&self, key: u64) -> bool;
 }
 
 /// What the walk does with each cell. A trait rather than a closure so that
@@ -61,6 +64,64 @@ pub(crate) trait CellFn<'a> {
     fn call(&mut self, visit: CellVisit, refs: &'a [u32]) -> ControlFlow<Self::Break>;
 }
 
+/// Log2 of the edge, in cells, of the blocks that [`Dda::walk_skip`] skips when empty.
+pub(crate) const MACRO_BITS: u32 = 3;
+
+/// One bit per block of `2^MACRO_BITS` cells per axis: set when some cell
+/// of the block holds a reference.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct BlockMap {
+    /// The grid's cells per axis.
+    pub cells: [u32; 3],
+    /// Blocks per axis.
+    pub dims: [u32; 3],
+    /// Occupancy bits, block `(i, j, k)` at bit `i + dims[0]·(j + dims[1]·k)`.
+    pub bits: Box<[u64]>,
+    /// Whether skipping pays: enough of the blocks are empty.
+    pub useful: bool,
+}
+
+impl BlockMap {
+    /// The map of a grid with `dims` cells, from its occupied cells.
+    pub(crate) fn new(dims: [u32; 3], occupied: impl Iterator<Item = [u32; 3]>) -> Self {
+        let bd = dims.map(|n| n.div_ceil(1 << MACRO_BITS));
+        let count = bd.iter().map(|&n| n as usize).product::<usize>();
+        let mut bits = vec![0u64; count.div_ceil(64)];
+        for c in occupied {
+            let b = Self::linear(bd, c.map(|i| i >> MACRO_BITS));
+            bits[b >> 6] |= 1 << (b & 63);
+        }
+        let set: usize = bits.iter().map(|w| w.count_ones() as usize).sum();
+        // Skipping costs a little per block crossed; it pays once a fair share is empty.
+        let useful = count > 1 && set * 10 < count * 9;
+        Self {
+            cells: dims,
+            dims: bd,
+            bits: bits.into_boxed_slice(),
+            useful,
+        }
+    }
+
+    #[inline(always)]
+    fn linear(bd: [u32; 3], b: [u32; 3]) -> usize {
+        b[0] as usize + bd[0] as usize * (b[1] as usize + bd[1] as usize * b[2] as usize)
+    }
+
+    /// Whether block `b` holds a reference (`b` must be inside the map).
+    #[inline(always)]
+    pub(crate) fn occupied(&self, b: [u32; 3]) -> bool {
+        let i = Self::linear(self.dims, b);
+        debug_assert!(i >> 6 < self.bits.len());
+        // SAFETY: the walk only asks for blocks of cells inside the grid.
+        unsafe { self.bits.get_unchecked(i >> 6) >> (i & 63) & 1 != 0 }
+    }
+
+    /// Heap bytes.
+    pub(crate) fn bytes(&self) -> usize {
+        std::mem::size_of_val(&*self.bits)
+    }
+}
+
 /// The walk's state between two steps.
 #[derive(Clone, Debug)]
 pub(crate) struct Dda<'g> {
@@ -68,6 +129,8 @@ pub(crate) struct Dda<'g> {
     /// (whose ends are `∓∞` sentinels, so no bounds test is needed: past the
     /// last interior plane the crossing is `+∞`).
     next: [*const Real; 3],
+    /// The start of each axis' walk planes.
+    base: [*const Real; 3],
     /// `+1` or `−1`: how `next` and the index move along each axis.
     dir: [isize; 3],
     org: [Real; 3],
@@ -93,7 +156,7 @@ impl<'g> Dda<'g> {
     /// direction component of ±0, or one whose reciprocal overflows, such as
     /// a denormal) is never stepped: its next crossing is `+∞`, whatever the
     /// sign of the zero.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn new(g: &'g Geom, ray: &Ray, t_min: Real, t_max: Real) -> Option<Self> {
         if g.is_empty() || !(t_min <= t_max) {
             return None;
@@ -101,6 +164,7 @@ impl<'g> Dda<'g> {
         let (t0, t1) = g.entry.hit(ray, t_min, t_max)?;
         let mut d = Dda {
             next: [g.walk[0].as_ptr(), g.walk[1].as_ptr(), g.walk[2].as_ptr()],
+            base: [g.walk[0].as_ptr(), g.walk[1].as_ptr(), g.walk[2].as_ptr()],
             dir: [1; 3],
             org: ray.origin.to_array(),
             inv: ray.inv_dir.to_array(),
@@ -171,8 +235,23 @@ impl<'g> Dda<'g> {
     /// The state lives in locals and each axis has its own constant-indexed
     /// step, so it stays in registers.
     #[inline(always)]
-    pub(crate) fn walk<'a, C: CellLookup<'a>, F: CellFn<'a>>(self, cells: &C, f: &mut F) -> ControlFlow<F::Break> {
-        let Dda { mut next, dir, org, inv, mut idx, neg, t_next, mut t_enter, t_end, .. } = self;
+    pub(crate) fn walk<'a, C: CellLookup<'a>, F: CellFn<'a>>(
+        self,
+        cells: &C,
+        f: &mut F,
+    ) -> ControlFlow<F::Break> {
+        let Dda {
+            mut next,
+            dir,
+            org,
+            inv,
+            mut idx,
+            neg,
+            t_next,
+            mut t_enter,
+            t_end,
+            ..
+        } = self;
         let (mut key, st) = cells.start(idx, neg);
         let [mut tx, mut ty, mut tz] = t_next;
         macro_rules! step {
@@ -201,7 +280,14 @@ impl<'g> Dda<'g> {
             };
             let last_cell = !(tn <= t_end);
             let t_exit = max(if last_cell { t_end } else { tn }, t_enter);
-            f.call(CellVisit { index: idx, t_enter, t_exit }, cells.refs(key))?;
+            f.call(
+                CellVisit {
+                    index: idx,
+                    t_enter,
+                    t_exit,
+                },
+                cells.refs(key),
+            )?;
             if last_cell {
                 return ControlFlow::Continue(());
             }
@@ -210,6 +296,204 @@ impl<'g> Dda<'g> {
                 0 => step!(0, tx),
                 1 => step!(1, ty),
                 _ => step!(2, tz),
+            }
+        }
+    }
+
+    /// [`Dda::walk`] for the queries, which need only the occupied cells.
+    /// Two levels: across empty blocks of 2^[`MACRO_BITS`] cells per axis
+    /// the walk steps block by block (one plane crossing per block instead
+    /// of one per cell, and no cell lookups), which pays in sparse scenes (a
+    /// mesh in a large box, a teapot in a stadium); inside occupied blocks
+    /// it steps cell by cell and recognises empty cells by one bit. `f` sees
+    /// every occupied cell, in order; the empty ones it does not see cannot
+    /// change a query's answer since they hold nothing. (A visit's `t_enter`
+    /// after a skipped stretch may be early; its `t_exit`, which the queries
+    /// use, is exact.)
+    #[inline(always)]
+    pub(crate) fn walk_skip<'a, C: CellLookup<'a>, F: CellFn<'a>>(
+        self,
+        cells: &C,
+        blocks: &BlockMap,
+        f: &mut F,
+    ) -> ControlFlow<F::Break> {
+        let Dda {
+            mut next,
+            base,
+            dir,
+            org,
+            inv,
+            mut idx,
+            neg,
+            t_next,
+            mut t_enter,
+            t_end,
+            ..
+        } = self;
+        let (mut key, st) = cells.start(idx, neg);
+        let [mut tx, mut ty, mut tz] = t_next;
+        let n = blocks.cells;
+        let moving = [tx != INF, ty != INF, tz != INF];
+        let mut blk = idx.map(|i| i >> MACRO_BITS);
+        // Block level: the plane index of each axis' next block face and its crossing.
+        let mut face = [0usize; 3];
+        let mut bt = [INF; 3];
+        macro_rules! step {
+            ($a:literal, $t:ident) => {{
+                idx[$a] = idx[$a].wrapping_add(dir[$a] as u32);
+                key = C::step(&st, key, $a);
+                // SAFETY: as in `advance`: the crossing was finite, so `next`
+                // pointed at an interior plane and one step stays in bounds.
+                unsafe {
+                    next[$a] = next[$a].offset(dir[$a]);
+                    $t = (*next[$a] - org[$a]) * inv[$a];
+                }
+            }};
+        }
+        // The crossing of plane `k` of axis `a`.
+        macro_rules! plane_t {
+            ($a:expr, $k:expr) => {{
+                debug_assert!($k <= n[$a] as usize);
+                // SAFETY: `k <= n`, and the walk planes have `n + 1` entries.
+                (unsafe { *base[$a].add($k) } - org[$a]) * inv[$a]
+            }};
+        }
+        // Enters block level from the current block (whose cells are skipped).
+        macro_rules! to_blocks {
+            () => {{
+                for a in 0..3 {
+                    if moving[a] {
+                        face[a] = if neg[a] {
+                            (blk[a] << MACRO_BITS) as usize
+                        } else {
+                            (((blk[a] + 1) << MACRO_BITS).min(n[a])) as usize
+                        };
+                        bt[a] = plane_t!(a, face[a]);
+                    }
+                }
+            }};
+        }
+        // Steps axis `$a` across its planes crossed before `$tx`.
+        macro_rules! catch_up {
+            ($a:literal, $t:ident, $tx:expr) => {{
+                while $t < $tx {
+                    step!($a, $t);
+                }
+            }};
+        }
+        let mut fine = blocks.occupied(blk);
+        if !fine {
+            to_blocks!();
+        }
+        loop {
+            if !fine {
+                // Block by block until an occupied block (or the end of the ray).
+                let t_x = loop {
+                    let [bx, by, bz] = bt;
+                    let (a, t) = if bx < by {
+                        if bx < bz {
+                            (0, bx)
+                        } else {
+                            (2, bz)
+                        }
+                    } else if by < bz {
+                        (1, by)
+                    } else {
+                        (2, bz)
+                    };
+                    if !(t <= t_end) {
+                        return ControlFlow::Continue(());
+                    }
+                    // A finite crossing is an interior face: the next block exists.
+                    blk[a] = blk[a].wrapping_add(dir[a] as u32);
+                    face[a] = if neg[a] {
+                        face[a] - (1 << MACRO_BITS)
+                    } else {
+                        (face[a] + (1 << MACRO_BITS)).min(n[a] as usize)
+                    };
+                    bt[a] = plane_t!(a, face[a]);
+                    if blocks.occupied(blk) {
+                        break t;
+                    }
+                };
+                // Down to cells: each moving axis starts at the block's first
+                // cell along the walk and catches up to the crossing `t_x`.
+                for a in 0..3 {
+                    if moving[a] {
+                        let first = blk[a] << MACRO_BITS;
+                        let i = if neg[a] {
+                            (first + (1 << MACRO_BITS) - 1).min(n[a] - 1)
+                        } else {
+                            first
+                        };
+                        idx[a] = i;
+                        // SAFETY: `i + off <= n`: within the walk planes.
+                        next[a] = unsafe { base[a].add(i as usize + usize::from(!neg[a])) };
+                    }
+                }
+                if moving[0] {
+                    tx = plane_t!(0, idx[0] as usize + usize::from(!neg[0]));
+                }
+                if moving[1] {
+                    ty = plane_t!(1, idx[1] as usize + usize::from(!neg[1]));
+                }
+                if moving[2] {
+                    tz = plane_t!(2, idx[2] as usize + usize::from(!neg[2]));
+                }
+                key = cells.start(idx, neg).0;
+                catch_up!(0, tx, t_x);
+                catch_up!(1, ty, t_x);
+                catch_up!(2, tz, t_x);
+                t_enter = max(t_x, t_enter);
+                fine = true;
+            }
+            let (a, tn) = if tx < ty {
+                if tx < tz {
+                    (0, tx)
+                } else {
+                    (2, tz)
+                }
+            } else if ty < tz {
+                (1, ty)
+            } else {
+                (2, tz)
+            };
+            let last_cell = !(tn <= t_end);
+            let t_exit = max(if last_cell { t_end } else { tn }, t_enter);
+            if cells.occupied(key) {
+                f.call(
+                    CellVisit {
+                        index: idx,
+                        t_enter,
+                        t_exit,
+                    },
+                    cells.refs(key),
+                )?;
+            }
+            if last_cell {
+                return ControlFlow::Continue(());
+            }
+            t_enter = t_exit;
+            let crossed = match a {
+                0 => {
+                    step!(0, tx);
+                    idx[0] >> MACRO_BITS != blk[0]
+                }
+                1 => {
+                    step!(1, ty);
+                    idx[1] >> MACRO_BITS != blk[1]
+                }
+                _ => {
+                    step!(2, tz);
+                    idx[2] >> MACRO_BITS != blk[2]
+                }
+            };
+            if crossed {
+                blk = idx.map(|i| i >> MACRO_BITS);
+                if !blocks.occupied(blk) {
+                    to_blocks!();
+                    fine = false;
+                }
             }
         }
     }
@@ -237,7 +521,11 @@ impl Iterator for CellIter<'_> {
         let (a, tn) = d.next_axis();
         let last = !(tn <= d.t_end);
         let t_exit = max(if last { d.t_end } else { tn }, d.t_enter);
-        let visit = CellVisit { index: d.idx, t_enter: d.t_enter, t_exit };
+        let visit = CellVisit {
+            index: d.idx,
+            t_enter: d.t_enter,
+            t_exit,
+        };
         if last {
             self.dda = None;
         } else {

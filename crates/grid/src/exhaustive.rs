@@ -52,7 +52,13 @@ impl<P: Primitive> Exhaustive<P> {
     /// `counters` (one per primitive; no cells), for the "tests per ray"
     /// column beside the grid's [`crate::Grid::closest_hit_counted`].
     #[inline]
-    pub fn closest_hit_counted<C: Counters>(&self, ray: &Ray, t_min: Real, t_max: Real, counters: &mut C) -> Option<Hit> {
+    pub fn closest_hit_counted<C: Counters>(
+        &self,
+        ray: &Ray,
+        t_min: Real,
+        t_max: Real,
+        counters: &mut C,
+    ) -> Option<Hit> {
         counters.ray();
         if !(t_min <= t_max) {
             return None;
@@ -74,7 +80,13 @@ impl<P: Primitive> Exhaustive<P> {
 
     /// [`Accelerator::any_hit`] that also reports its tests to `counters`.
     #[inline]
-    pub fn any_hit_counted<C: Counters>(&self, ray: &Ray, t_min: Real, t_max: Real, counters: &mut C) -> bool {
+    pub fn any_hit_counted<C: Counters>(
+        &self,
+        ray: &Ray,
+        t_min: Real,
+        t_max: Real,
+        counters: &mut C,
+    ) -> bool {
         counters.ray();
         if !(t_min <= t_max) {
             return false;

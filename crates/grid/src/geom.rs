@@ -3,7 +3,7 @@
 //! where a cell begins and ends.
 
 use crate::morton;
-use gridrt_bbox::{Aabb, Real};
+use gridrt_bbox::{Aabb, Real, Vec3};
 
 /// How far (in units of `Real::EPSILON` times the largest coordinate
 /// magnitude of the grid box) every primitive box is widened before it is
@@ -33,6 +33,10 @@ pub(crate) struct Geom {
     pub pad: Real,
     /// The grid box widened by the pad: what a ray must hit to enter.
     pub entry: Aabb,
+    /// `inv_cell` as a vector.
+    pub inv: Vec3,
+    /// `dims − 1` per axis, as a vector.
+    pub last: Vec3,
     /// The planes as the walk sees them: `planes` with the two outer faces
     /// replaced by `−∞` and `+∞`, so that the crossing after the last
     /// interior plane is `+∞` in either direction.
@@ -49,6 +53,8 @@ impl Geom {
             inv_cell: [0.0; 3],
             pad: 0.0,
             entry: Aabb::EMPTY,
+            inv: Vec3::ZERO,
+            last: Vec3::ZERO,
             walk: [Box::new([]), Box::new([]), Box::new([])],
         }
     }
@@ -78,7 +84,7 @@ impl Geom {
             w[n] = Real::INFINITY;
             w.into_boxed_slice()
         });
-        let widen = gridrt_bbox::Vec3::splat(pad);
+        let widen = Vec3::splat(pad);
         Self {
             bounds,
             dims,
@@ -86,6 +92,12 @@ impl Geom {
             inv_cell,
             pad,
             entry: Aabb::new(bounds.min - widen, bounds.max + widen),
+            inv: Vec3::from_array(inv_cell),
+            last: Vec3::new(
+                (dims[0] - 1) as Real,
+                (dims[1] - 1) as Real,
+                (dims[2] - 1) as Real,
+            ),
             walk,
         }
     }
@@ -107,64 +119,98 @@ impl Geom {
     /// against the stored planes, so the answer satisfies
     /// `planes[i] <= x < planes[i + 1]` whenever `x` is inside the grid
     /// (a point on the grid's max face goes to the last cell). NaN maps to 0.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn cell_of(&self, axis: usize, x: Real) -> u32 {
-        let planes = &self.planes[axis];
+        let planes = &*self.planes[axis];
         let last = self.dims[axis] - 1;
-        let f = (x - planes[0]) * self.inv_cell[axis];
-        // `as` saturates and maps NaN to 0; the clamp does the rest.
-        let mut i = (f as i64).clamp(0, i64::from(last)) as u32;
-        while i > 0 && x < planes[i as usize] {
-            i -= 1;
+        debug_assert!(planes.len() == last as usize + 2);
+        // SAFETY: `planes` has `dims[axis] + 1 >= 2` entries; every index used
+        // below stays in `0..=last + 1`.
+        unsafe {
+            let f = (x - *planes.get_unchecked(0)) * self.inv_cell[axis];
+            // The guess from the cell size (NaN and negatives give 0).
+            let mut i = if f > 0.0 {
+                if f < last as Real {
+                    f as u32
+                } else {
+                    last
+                }
+            } else {
+                0
+            };
+            // Corrected against the stored planes (rarely more than one step).
+            while i > 0 && x < *planes.get_unchecked(i as usize) {
+                i -= 1;
+            }
+            while i < last && x >= *planes.get_unchecked(i as usize + 1) {
+                i += 1;
+            }
+            i
         }
-        while i < last && x >= planes[i as usize + 1] {
-            i += 1;
-        }
-        i
     }
 
     /// The inclusive cell range `[lo, hi]` per axis that a primitive box
     /// (widened by the pad) overlaps. The box must be finite and non-empty.
-    #[inline]
+    ///
+    /// Computed from the cell size alone, without [`Geom::cell_of`]'s
+    /// correction against the stored planes (the build's hottest line): the
+    /// two can disagree only for a coordinate within a few ulps of a plane,
+    /// and the pad, hundreds of ulps wide, already puts such a primitive in
+    /// the cells on both sides.
+    #[inline(always)]
     pub(crate) fn cell_range(&self, b: &Aabb) -> ([u32; 3], [u32; 3]) {
-        let mut lo = [0; 3];
-        let mut hi = [0; 3];
-        for a in 0..3 {
-            lo[a] = self.cell_of(a, b.min[a] - self.pad);
-            hi[a] = self.cell_of(a, b.max[a] + self.pad);
+        let last = self.last;
+        let lo = ((b.min - self.pad - self.bounds.min) * self.inv).clamp(Vec3::ZERO, last);
+        let hi = ((b.max + self.pad - self.bounds.min) * self.inv).clamp(Vec3::ZERO, last);
+        // SAFETY: clamped to `[0, dims − 1]` (NaN clamps to 0), so each value
+        // is finite and fits a `u32`; the conversion truncates.
+        unsafe {
+            (
+                [
+                    lo.x.to_int_unchecked(),
+                    lo.y.to_int_unchecked(),
+                    lo.z.to_int_unchecked(),
+                ],
+                [
+                    hi.x.to_int_unchecked(),
+                    hi.y.to_int_unchecked(),
+                    hi.z.to_int_unchecked(),
+                ],
+            )
         }
-        (lo, hi)
     }
 
     /// The box of cell `idx`, widened by the pad: the region a primitive
     /// must touch to be inserted into the cell under exact insertion.
     #[inline]
     pub(crate) fn padded_cell_box(&self, idx: [u32; 3]) -> Aabb {
-        let mut b = Aabb::EMPTY;
-        for a in 0..3 {
-            let i = idx[a] as usize;
-            b.min[a] = self.planes[a][i] - self.pad;
-            b.max[a] = self.planes[a][i + 1] + self.pad;
-        }
-        b
+        let b = self.cell_box(idx);
+        let pad = Vec3::splat(self.pad);
+        Aabb::new(b.min - pad, b.max + pad)
     }
 
     /// The unpadded box of cell `idx`.
     pub(crate) fn cell_box(&self, idx: [u32; 3]) -> Aabb {
         let mut b = Aabb::EMPTY;
-        for a in 0..3 {
-            let i = idx[a] as usize;
-            b.min[a] = self.planes[a][i];
-            b.max[a] = self.planes[a][i + 1];
+        for (a, &i) in idx.iter().enumerate() {
+            b.min[a] = self.planes[a][i as usize];
+            b.max[a] = self.planes[a][i as usize + 1];
         }
         b
     }
 }
 
+/// `x` as an `f64` (a no-op with the `f64` feature).
+#[inline]
+#[allow(clippy::useless_conversion)]
+pub(crate) fn wide(x: Real) -> f64 {
+    f64::from(x)
+}
+
 /// Replaces a meaningless `m` (NaN, infinite, zero or negative) by the
 /// lecture's 2.
 pub(crate) fn sanitize_m(m: Real) -> f64 {
-    let m = f64::from(m);
+    let m = wide(m);
     if m.is_finite() && m > 0.0 {
         m
     } else {
@@ -241,7 +287,6 @@ pub(crate) fn cap_cells(mut dims: [u64; 3], max_cells: u64) -> [u32; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use gridrt_bbox::Vec3;
 
     #[test]
     fn lecture_formula_on_a_cube() {
@@ -270,7 +315,7 @@ mod tests {
         let d = resolution([1.0; 3], 1_000_000, 2.0, 1000);
         assert!(d.iter().map(|&n| u64::from(n)).product::<u64>() <= 1000);
         assert_eq!(resolution([1.0; 3], 5, 2.0, 0), [1, 1, 1]);
-        let huge = resolution([1e30, 1e-30, 1.0], usize::MAX, Real::MAX as f64, u64::MAX);
+        let huge = resolution([1e30, 1e-30, 1.0], usize::MAX, wide(Real::MAX), u64::MAX);
         assert!(huge.iter().map(|&n| u64::from(n)).product::<u64>() <= HARD_MAX_CELLS);
     }
 

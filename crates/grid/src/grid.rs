@@ -2,7 +2,7 @@
 
 use crate::build::{self, Cells};
 use crate::counters::{Counters, NoCounters};
-use crate::dda::{CellFn, CellIter, CellLookup, CellVisit, Dda};
+use crate::dda::{BlockMap, CellFn, CellIter, CellLookup, CellVisit, Dda};
 use crate::geom::Geom;
 use crate::table::CellTable;
 use crate::{morton, Accelerator, CellStorage, GridConfig, GridStats, Hit, Primitive};
@@ -40,6 +40,9 @@ pub struct Grid<P> {
     refs: Box<[u32]>,
     unbounded: Box<[u32]>,
     spread: [Box<[u64]>; 3],
+    blocks: BlockMap,
+    /// One bit per cell key: set when the cell holds references.
+    occ: Box<[u64]>,
     stats: GridStats,
 }
 
@@ -73,7 +76,17 @@ impl GridScratch {
     }
 }
 
+/// Tests bit `key` of an occupancy bitmap.
+#[inline(always)]
+fn bit(bits: &[u64], key: u64) -> bool {
+    let w = (key >> 6) as usize;
+    debug_assert!(w < bits.len());
+    // SAFETY: the bitmap has a bit for every key the walk can produce.
+    unsafe { bits.get_unchecked(w) >> (key & 63) & 1 != 0 }
+}
+
 struct DenseLookup<'a> {
+    occ: &'a [u64],
     offsets: &'a [u32],
     refs: &'a [u32],
     nx: u64,
@@ -85,11 +98,18 @@ impl<'a> CellLookup<'a> for DenseLookup<'a> {
     fn start(&self, idx: [u32; 3], neg: [bool; 3]) -> (u64, [u64; 3]) {
         let key = u64::from(idx[0]) + self.nx * u64::from(idx[1]) + self.nxy * u64::from(idx[2]);
         let s = [1, self.nx, self.nxy];
-        (key, std::array::from_fn(|a| if neg[a] { s[a].wrapping_neg() } else { s[a] }))
+        (
+            key,
+            std::array::from_fn(|a| if neg[a] { s[a].wrapping_neg() } else { s[a] }),
+        )
     }
     #[inline(always)]
     fn step(st: &[u64; 3], key: u64, axis: usize) -> u64 {
         key.wrapping_add(st[axis])
+    }
+    #[inline(always)]
+    fn occupied(&self, key: u64) -> bool {
+        bit(self.occ, key)
     }
     #[inline(always)]
     fn refs(&self, key: u64) -> &'a [u32] {
@@ -107,6 +127,7 @@ impl<'a> CellLookup<'a> for DenseLookup<'a> {
 }
 
 struct HashedLookup<'a> {
+    occ: &'a [u64],
     table: &'a CellTable,
     refs: &'a [u32],
     spread: [&'a [u64]; 3],
@@ -115,12 +136,18 @@ struct HashedLookup<'a> {
 impl<'a> CellLookup<'a> for HashedLookup<'a> {
     #[inline(always)]
     fn start(&self, idx: [u32; 3], neg: [bool; 3]) -> (u64, [u64; 3]) {
-        let key = self.spread[0][idx[0] as usize] | self.spread[1][idx[1] as usize] | self.spread[2][idx[2] as usize];
+        let key = self.spread[0][idx[0] as usize]
+            | self.spread[1][idx[1] as usize]
+            | self.spread[2][idx[2] as usize];
         (key, neg.map(u64::from))
     }
     #[inline(always)]
     fn step(st: &[u64; 3], key: u64, axis: usize) -> u64 {
         morton::step(key, axis, st[axis] != 0)
+    }
+    #[inline(always)]
+    fn occupied(&self, key: u64) -> bool {
+        bit(self.occ, key)
     }
     #[inline(always)]
     fn refs(&self, key: u64) -> &'a [u32] {
@@ -256,11 +283,18 @@ macro_rules! with_lookup {
         match &$self.cells {
             Cells::Dense { offsets } => {
                 let [nx, ny, _] = $self.geom.dims.map(u64::from);
-                let $l = DenseLookup { offsets, refs: &$self.refs, nx, nxy: nx * ny };
+                let $l = DenseLookup {
+                    occ: &$self.occ,
+                    offsets,
+                    refs: &$self.refs,
+                    nx,
+                    nxy: nx * ny,
+                };
                 $body
             }
             Cells::Hashed { table } => {
                 let $l = HashedLookup {
+                    occ: &$self.occ,
                     table,
                     refs: &$self.refs,
                     spread: [&$self.spread[0], &$self.spread[1], &$self.spread[2]],
@@ -288,7 +322,10 @@ impl<P: Primitive> Grid<P> {
     /// a `u32`).
     #[must_use]
     pub fn build(prims: Vec<P>, config: &GridConfig) -> Self {
-        assert!(u32::try_from(prims.len()).is_ok(), "at most u32::MAX primitives");
+        assert!(
+            u32::try_from(prims.len()).is_ok(),
+            "at most u32::MAX primitives"
+        );
         let start = Instant::now();
         let b = build::build(&prims, config);
         let build_time = start.elapsed();
@@ -300,16 +337,31 @@ impl<P: Primitive> Grid<P> {
             refs: b.refs,
             unbounded: b.unbounded,
             spread: b.spread,
+            blocks: BlockMap::default(),
+            occ: Box::new([]),
             stats: GridStats::default(),
         };
+        grid.blocks = grid.block_map();
+        grid.occ = grid.occupancy_bits();
         let cells = grid.geom.cell_count();
         let table_bytes = match &grid.cells {
             Cells::Empty => 0,
             Cells::Dense { offsets } => std::mem::size_of_val(&**offsets),
             Cells::Hashed { table } => table.bytes(),
         };
-        let planes: usize = grid.geom.planes.iter().map(|p| std::mem::size_of_val(&**p)).sum();
-        let spread: usize = grid.spread.iter().map(|s| std::mem::size_of_val(&**s)).sum();
+        let planes: usize = grid
+            .geom
+            .planes
+            .iter()
+            .map(|p| std::mem::size_of_val(&**p))
+            .sum();
+        let spread: usize = grid
+            .spread
+            .iter()
+            .map(|s| std::mem::size_of_val(&**s))
+            .sum::<usize>()
+            + grid.blocks.bytes()
+            + std::mem::size_of_val(&*grid.occ);
         grid.stats = GridStats {
             dims: grid.geom.dims,
             cells,
@@ -321,7 +373,11 @@ impl<P: Primitive> Grid<P> {
                 grid.refs.len() as f64 / b.occupied as f64
             },
             max_refs_per_cell: b.max_refs,
-            bytes: table_bytes + std::mem::size_of_val(&*grid.refs) + planes + spread + std::mem::size_of_val(&*grid.unbounded),
+            bytes: table_bytes
+                + std::mem::size_of_val(&*grid.refs)
+                + planes
+                + spread
+                + std::mem::size_of_val(&*grid.unbounded),
             table_bytes,
             unbounded_prims: grid.unbounded.len() as u64,
             build_time,
@@ -378,14 +434,69 @@ impl<P: Primitive> Grid<P> {
         self.in_grid(index).then(|| self.geom.cell_box(index))
     }
 
-    /// The primitive indices stored in cell `index`, ascending; empty for an
-    /// unoccupied cell or an index outside the grid.
+    /// The primitive indices stored in cell `index`, each once, in an
+    /// unspecified (but deterministic) order; empty for an unoccupied cell
+    /// or an index outside the grid.
     #[must_use]
     pub fn cell_refs(&self, index: [u32; 3]) -> &[u32] {
         if !self.in_grid(index) {
             return &[];
         }
         with_lookup!(self, l => { let (k, _) = l.start(index, [false; 3]); l.refs(k) }, &[])
+    }
+
+    /// The occupancy of blocks of cells, for skipping empty space.
+    fn block_map(&self) -> BlockMap {
+        let dims = self.geom.dims;
+        match &self.cells {
+            Cells::Empty => BlockMap::default(),
+            Cells::Dense { offsets } => {
+                let [nx, ny, _] = dims;
+                let occupied = offsets
+                    .windows(2)
+                    .enumerate()
+                    .filter(|(_, w)| w[0] != w[1])
+                    .map(|(c, _)| {
+                        let c = c as u32;
+                        [c % nx, (c / nx) % ny, c / (nx * ny)]
+                    });
+                BlockMap::new(dims, occupied)
+            }
+            Cells::Hashed { table } => {
+                BlockMap::new(dims, table.occupied().map(|s| morton::decode3(s.key)))
+            }
+        }
+    }
+
+    /// Whether the queries take the two-level walk: when enough blocks are
+    /// empty, and always with the hashed table, whose probe for an empty
+    /// cell costs far more than the occupancy bit.
+    #[inline(always)]
+    fn skips(&self) -> bool {
+        self.blocks.useful || matches!(self.cells, Cells::Hashed { .. })
+    }
+
+    /// One bit per cell key (row-major index or Morton code).
+    fn occupancy_bits(&self) -> Box<[u64]> {
+        match &self.cells {
+            Cells::Empty => Box::new([]),
+            Cells::Dense { offsets } => {
+                let mut bits = vec![0u64; (offsets.len() - 1).div_ceil(64)];
+                for (c, w) in offsets.windows(2).enumerate() {
+                    bits[c >> 6] |= u64::from(w[0] != w[1]) << (c & 63);
+                }
+                bits.into_boxed_slice()
+            }
+            Cells::Hashed { table } => {
+                let d = self.geom.dims.map(|n| n - 1);
+                let max_key = morton::encode3(d[0], d[1], d[2]);
+                let mut bits = vec![0u64; (max_key as usize + 1).div_ceil(64)];
+                for s in table.occupied() {
+                    bits[(s.key >> 6) as usize] |= 1 << (s.key & 63);
+                }
+                bits.into_boxed_slice()
+            }
+        }
     }
 
     fn in_grid(&self, index: [u32; 3]) -> bool {
@@ -419,7 +530,7 @@ impl<P: Primitive> Grid<P> {
         let Some(dda) = Dda::new(&self.geom, ray, t_min, t_max) else {
             return ControlFlow::Continue(());
         };
-        with_lookup!(self, l => dda.walk(&l, &mut FnCell(|v, r| f(v, r))), ControlFlow::Continue(()))
+        with_lookup!(self, l => dda.walk(&l, &mut FnCell(&mut f)), ControlFlow::Continue(()))
     }
 
     /// [`Accelerator::closest_hit`] that also reports cells visited, tests
@@ -488,7 +599,12 @@ impl<P: Primitive> Grid<P> {
             q.stamp = scratch.begin(self.prims.len());
             q.stamps = &mut scratch.stamps;
         }
-        let _ = with_lookup!(self, l => dda.walk(&l, &mut q), ControlFlow::Continue(()));
+        // Sparse grids skip empty blocks and cells; dense ones walk every cell.
+        let _ = if self.skips() {
+            with_lookup!(self, l => dda.walk_skip(&l, &self.blocks, &mut q), ControlFlow::Continue(()))
+        } else {
+            with_lookup!(self, l => dda.walk(&l, &mut q), ControlFlow::Continue(()))
+        };
         q.best
     }
 
@@ -514,12 +630,24 @@ impl<P: Primitive> Grid<P> {
         let Some(dda) = Dda::new(&self.geom, ray, t_min, t_max) else {
             return false;
         };
-        let mut q = AnyHit::<P, C, MB> { prims: &self.prims, ray, t_min, t_max, stamps: &mut [], stamp: 0, counters };
+        let mut q = AnyHit::<P, C, MB> {
+            prims: &self.prims,
+            ray,
+            t_min,
+            t_max,
+            stamps: &mut [],
+            stamp: 0,
+            counters,
+        };
         if MB {
             q.stamp = scratch.begin(self.prims.len());
             q.stamps = &mut scratch.stamps;
         }
-        with_lookup!(self, l => dda.walk(&l, &mut q), ControlFlow::Continue(())).is_break()
+        if self.skips() {
+            with_lookup!(self, l => dda.walk_skip(&l, &self.blocks, &mut q), ControlFlow::Continue(())).is_break()
+        } else {
+            with_lookup!(self, l => dda.walk(&l, &mut q), ControlFlow::Continue(())).is_break()
+        }
     }
 
     /// Checks the grid's internal consistency; `Err` names the first
@@ -528,7 +656,7 @@ impl<P: Primitive> Grid<P> {
     ///
     /// Checked: the geometry (planes nondecreasing from the box's min to its
     /// max, cell count within the cap), the CSR layout (offsets or table
-    /// runs inside the reference array, ascending primitive indices per
+    /// runs inside the reference array, no primitive twice in a
     /// cell, keys in Morton order), that every gridded primitive is in
     /// exactly the cells its padded box overlaps (or, with exact insertion,
     /// in every such cell it reports touching and no other), that the
@@ -545,7 +673,11 @@ impl<P: Primitive> Grid<P> {
             for a in 0..3 {
                 let p = &g.planes[a];
                 if g.dims[a] == 0 || p.len() != g.dims[a] as usize + 1 {
-                    return Err(format!("axis {a}: {} planes for {} cells", p.len(), g.dims[a]));
+                    return Err(format!(
+                        "axis {a}: {} planes for {} cells",
+                        p.len(),
+                        g.dims[a]
+                    ));
                 }
                 if p[0] != g.bounds.min[a] || p[p.len() - 1] != g.bounds.max[a] {
                     return Err(format!("axis {a}: planes do not span the grid box"));
@@ -555,7 +687,11 @@ impl<P: Primitive> Grid<P> {
                 }
             }
             if g.cell_count() > self.config.max_cells.max(1) {
-                return Err(format!("{} cells exceed max_cells {}", g.cell_count(), self.config.max_cells));
+                return Err(format!(
+                    "{} cells exceed max_cells {}",
+                    g.cell_count(),
+                    self.config.max_cells
+                ));
             }
         }
         if let Some(&p) = self.refs.iter().find(|&&p| p as usize >= n) {
@@ -620,8 +756,10 @@ impl<P: Primitive> Grid<P> {
         let mut stored: Vec<([u32; 3], u32)> = Vec::with_capacity(self.refs.len());
         for &(_, idx, s, len) in &runs {
             let r = &self.refs[s as usize..(s + len) as usize];
-            if r.windows(2).any(|w| w[0] >= w[1]) {
-                return Err(format!("cell {idx:?}: references not strictly ascending"));
+            let mut sorted = r.to_vec();
+            sorted.sort_unstable();
+            if sorted.windows(2).any(|w| w[0] == w[1]) {
+                return Err(format!("cell {idx:?}: a primitive listed twice"));
             }
             stored.extend(r.iter().map(|&p| (idx, p)));
         }
@@ -661,10 +799,15 @@ impl<P: Primitive> Grid<P> {
         if stored != expected {
             let missing = expected.iter().find(|x| stored.binary_search(x).is_err());
             let extra = stored.iter().find(|x| expected.binary_search(x).is_err());
-            return Err(format!("cell contents differ: missing {missing:?}, extra {extra:?}"));
+            return Err(format!(
+                "cell contents differ: missing {missing:?}, extra {extra:?}"
+            ));
         }
         let s = &self.stats;
-        if s.dims != g.dims || s.references != self.refs.len() as u64 || s.occupied_cells != runs.len() as u64 {
+        if s.dims != g.dims
+            || s.references != self.refs.len() as u64
+            || s.occupied_cells != runs.len() as u64
+        {
             return Err("stats do not match the grid".into());
         }
         if s.max_refs_per_cell != runs.iter().map(|r| r.3).max().unwrap_or(0) {
@@ -696,7 +839,13 @@ impl<P: Primitive> Accelerator for Grid<P> {
     }
 
     #[inline]
-    fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real, scratch: &mut GridScratch) -> Option<Hit> {
+    fn closest_hit(
+        &self,
+        ray: &Ray,
+        t_min: Real,
+        t_max: Real,
+        scratch: &mut GridScratch,
+    ) -> Option<Hit> {
         self.closest_hit_counted(ray, t_min, t_max, scratch, &mut NoCounters)
     }
 
@@ -711,5 +860,130 @@ impl<P> Grid<P> {
     #[must_use]
     pub fn storage(&self) -> CellStorage {
         self.config.storage
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Exhaustive, PrimHit};
+    use gridrt_bbox::Vec3;
+
+    /// A ball, just enough for these tests.
+    #[derive(Clone, Debug)]
+    struct Ball(Vec3, Real);
+
+    impl Primitive for Ball {
+        fn bounds(&self) -> Aabb {
+            Aabb::new(self.0 - Vec3::splat(self.1), self.0 + Vec3::splat(self.1))
+        }
+        fn closest_hit(&self, ray: &Ray, t0: Real, t1: Real) -> Option<PrimHit> {
+            let oc = ray.origin - self.0;
+            let (a, b, c) = (
+                ray.dir.dot(ray.dir),
+                oc.dot(ray.dir),
+                oc.dot(oc) - self.1 * self.1,
+            );
+            let disc = b * b - a * c;
+            if disc < 0.0 {
+                return None;
+            }
+            let s = disc.sqrt();
+            [(-b - s) / a, (-b + s) / a]
+                .into_iter()
+                .find(|t| (t0..=t1).contains(t))
+                .map(|t| PrimHit { t, u: 0.0, v: 0.0 })
+        }
+    }
+
+    fn lcg(s: &mut u64) -> Real {
+        *s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*s >> 40) as Real / (1u64 << 24) as Real
+    }
+
+    #[test]
+    fn mailbox_ids_wrap_around_safely() {
+        let mut s = GridScratch::default();
+        assert_eq!(s.begin(3), 1);
+        s.stamps[1] = 1;
+        s.ray = u32::MAX;
+        // The id wraps to 0, which would match fresh stamps: all are cleared.
+        s.stamps[2] = u32::MAX;
+        assert_eq!(s.begin(3), 1);
+        assert_eq!(s.stamps, vec![0, 0, 0]);
+        // A scratch sized for other primitives is resized and reset.
+        assert_eq!(s.begin(5), 1);
+        assert_eq!(s.stamps.len(), 5);
+    }
+
+    #[test]
+    fn sparse_scenes_skip_empty_blocks_and_stay_exact() {
+        // Clusters of balls far apart: most blocks of the grid are empty.
+        let mut seed = 1;
+        let mut prims = Vec::new();
+        for c in 0..6 {
+            let centre = Vec3::new(
+                c as Real * 7.0 - 20.0,
+                (c % 3) as Real * 9.0 - 9.0,
+                (c % 2) as Real * 11.0,
+            );
+            for _ in 0..80 {
+                let p = centre + Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed));
+                prims.push(Ball(p, 0.02 + 0.05 * lcg(&mut seed)));
+            }
+        }
+        let e = Exhaustive::new(prims.clone());
+        for storage in [CellStorage::Dense, CellStorage::Hashed] {
+            for mailbox in [false, true] {
+                let g = Grid::build(
+                    prims.clone(),
+                    &GridConfig {
+                        storage,
+                        mailbox,
+                        m: 3.0,
+                        ..GridConfig::default()
+                    },
+                );
+                assert!(g.blocks.useful, "the walk should skip empty blocks here");
+                g.check_invariants().expect("invariants");
+                let mut sc = g.scratch();
+                let mut hits = 0;
+                for i in 0..3000 {
+                    let o = Vec3::new(
+                        lcg(&mut seed) * 60.0 - 30.0,
+                        lcg(&mut seed) * 40.0 - 20.0,
+                        lcg(&mut seed) * 40.0 - 15.0,
+                    );
+                    let target = prims[i % prims.len()].0
+                        + Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 0.2;
+                    let r = Ray::new(o, target - o);
+                    let want = e.closest_hit(&r, 0.0, Real::INFINITY, &mut ());
+                    assert_eq!(g.closest_hit(&r, 0.0, Real::INFINITY, &mut sc), want);
+                    assert_eq!(
+                        g.any_hit(&r, 0.0, 0.9, &mut sc),
+                        e.any_hit(&r, 0.0, 0.9, &mut ())
+                    );
+                    hits += usize::from(want.is_some());
+                }
+                assert!(hits > 1000, "{hits}");
+            }
+        }
+    }
+
+    #[test]
+    fn dense_scenes_walk_every_cell() {
+        let mut seed = 3;
+        let prims: Vec<Ball> = (0..2000)
+            .map(|_| {
+                Ball(
+                    Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)),
+                    0.02,
+                )
+            })
+            .collect();
+        let g = Grid::build(prims, &GridConfig::default());
+        assert!(!g.blocks.useful);
     }
 }

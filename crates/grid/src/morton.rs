@@ -1,7 +1,8 @@
-//! Morton (Z-order) helpers the grid needs on top of plain encoding: per-axis
-//! spread tables and stepping a code by one cell along one axis.
+//! Morton (Z-order) helpers the grid needs on top of `gridrt-morton`'s
+//! encoding: the per-axis bit masks and stepping a code by one cell along
+//! one axis without decoding it.
 //!
-//! Encoding follows `gridrt-morton`'s convention: 21 bits per axis, x in the
+//! Codes follow `gridrt-morton`'s convention: 21 bits per axis, x in the
 //! lowest bit, then y, then z (`… z1 y1 x1 z0 y0 x0`).
 
 /// The bits of a Morton code that belong to each axis (x, y, z), 21 bits each.
@@ -14,46 +15,20 @@ pub(crate) const AXIS_MASK: [u64; 3] = [
 /// The largest cell index per axis that a 63-bit Morton code can hold.
 pub(crate) const MAX_AXIS_CELLS: u32 = 1 << 21;
 
-/// Spreads the low 21 bits of `x` so that bit `b` lands on bit `3b`
-/// (the "magic bits" method; pbrt-v4 `LeftShift3`).
-#[inline]
-#[must_use]
-pub(crate) fn spread3(x: u32) -> u64 {
-    let mut v = u64::from(x) & 0x1f_ffff;
-    v = (v | (v << 32)) & 0x001f_0000_0000_ffff;
-    v = (v | (v << 16)) & 0x001f_0000_ff00_00ff;
-    v = (v | (v << 8)) & 0x100f_00f0_0f00_f00f;
-    v = (v | (v << 4)) & 0x10c3_0c30_c30c_30c3;
-    v = (v | (v << 2)) & 0x1249_2492_4924_9249;
-    v
-}
-
-/// Undoes [`spread3`]: gathers bits `0, 3, 6, …` into the low 21 bits.
-#[inline]
-#[must_use]
-pub(crate) fn compact3(v: u64) -> u32 {
-    let mut v = v & 0x1249_2492_4924_9249;
-    v = (v ^ (v >> 2)) & 0x10c3_0c30_c30c_30c3;
-    v = (v ^ (v >> 4)) & 0x100f_00f0_0f00_f00f;
-    v = (v ^ (v >> 8)) & 0x001f_0000_ff00_00ff;
-    v = (v ^ (v >> 16)) & 0x001f_0000_0000_ffff;
-    v = (v ^ (v >> 32)) & 0x1f_ffff;
-    v as u32
-}
-
-/// The Morton code of cell `(x, y, z)`; each index must be below 2^21.
+/// The Morton code of cell `(x, y, z)` (each index below 2^21), from `gridrt-morton`.
 #[inline]
 #[must_use]
 pub(crate) fn encode3(x: u32, y: u32, z: u32) -> u64 {
     debug_assert!(x < MAX_AXIS_CELLS && y < MAX_AXIS_CELLS && z < MAX_AXIS_CELLS);
-    spread3(x) | (spread3(y) << 1) | (spread3(z) << 2)
+    gridrt_morton::encode3(x, y, z)
 }
 
-/// The cell `(x, y, z)` of a Morton code.
+/// The cell `(x, y, z)` of a Morton code, from `gridrt-morton`.
 #[inline]
 #[must_use]
 pub(crate) fn decode3(m: u64) -> [u32; 3] {
-    [compact3(m), compact3(m >> 1), compact3(m >> 2)]
+    let (x, y, z) = gridrt_morton::decode3(m);
+    [x, y, z]
 }
 
 /// The code of the neighbour one cell further along `axis` (`+1`, or `−1`

@@ -3,7 +3,11 @@
 
 /// Runs `f(i)` for `i in 0..n`, in parallel when `parallel` is true and the
 /// `rayon` feature is on, and returns the results in order.
-pub(crate) fn map_indices<R: Send>(n: usize, parallel: bool, f: impl Fn(usize) -> R + Sync + Send) -> Vec<R> {
+pub(crate) fn map_indices<R: Send>(
+    n: usize,
+    parallel: bool,
+    f: impl Fn(usize) -> R + Sync + Send,
+) -> Vec<R> {
     #[cfg(feature = "rayon")]
     if parallel && n > 1 {
         use rayon::prelude::*;
@@ -22,6 +26,16 @@ pub(crate) fn chunk_count(len: usize, parallel: bool, min_chunk: usize) -> usize
         return want.min(len / min_chunk.max(1)).max(1);
     }
     let _ = (len, parallel, min_chunk);
+    1
+}
+
+/// The number of worker threads a parallel phase may use (1 when sequential).
+pub(crate) fn threads(parallel: bool) -> usize {
+    #[cfg(feature = "rayon")]
+    if parallel {
+        return rayon::current_num_threads();
+    }
+    let _ = parallel;
     1
 }
 

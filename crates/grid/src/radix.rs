@@ -12,8 +12,13 @@ const SMALL: usize = 1 << 12;
 
 /// Sorts `data` stably by `key(x)`, of which only the low `key_bits` bits may
 /// be set. `tmp` is scratch space (resized as needed).
-pub(crate) fn sort_by_key<T, K>(data: &mut Vec<T>, tmp: &mut Vec<T>, key_bits: u32, key: K, parallel: bool)
-where
+pub(crate) fn sort_by_key<T, K>(
+    data: &mut Vec<T>,
+    tmp: &mut Vec<T>,
+    key_bits: u32,
+    key: K,
+    parallel: bool,
+) where
     T: Copy + Send + Sync,
     K: Fn(&T) -> u64 + Sync + Send,
 {
@@ -50,7 +55,7 @@ where
                 *t += c as usize;
             }
         }
-        if totals.iter().any(|&t| t == len) {
+        if totals.contains(&len) {
             continue;
         }
         // Chunk c's items of bucket b go after all items of smaller buckets
@@ -64,7 +69,10 @@ where
             }
         }
         tmp.clear();
-        tmp.reserve(len);
+        if tmp.capacity() < len {
+            *tmp = Vec::with_capacity(len);
+            crate::mem::advise_huge(tmp);
+        }
         let dst = SharedMut(tmp.as_mut_ptr());
         let starts = &starts;
         map_indices(chunks, parallel, |c| {
@@ -90,15 +98,25 @@ mod tests {
     use super::*;
 
     fn lcg(s: &mut u64) -> u64 {
-        *s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        *s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         *s >> 33
     }
 
     #[test]
     fn sorts_stably_like_std() {
-        for &(n, bits) in &[(10usize, 5u32), (5000, 7), (70_000, 24), (100_000, 30), (20_000, 40)] {
+        for &(n, bits) in &[
+            (10usize, 5u32),
+            (5000, 7),
+            (70_000, 24),
+            (100_000, 30),
+            (20_000, 40),
+        ] {
             let mut s = 7u64;
-            let mut v: Vec<(u64, u32)> = (0..n as u32).map(|i| (lcg(&mut s) & ((1u64 << bits) - 1).min(u64::MAX), i)).collect();
+            let mut v: Vec<(u64, u32)> = (0..n as u32)
+                .map(|i| (lcg(&mut s) & ((1u64 << bits) - 1), i))
+                .collect();
             let mut want = v.clone();
             want.sort_by_key(|x| x.0);
             for parallel in [false, true] {

@@ -31,7 +31,11 @@ impl CellTable {
     /// An empty table sized for `occupied` cells.
     pub(crate) fn with_cells(occupied: usize) -> Self {
         let cap = (occupied.max(1) * 2).next_power_of_two().max(4);
-        let empty = Slot { key: EMPTY, start: 0, len: 0 };
+        let empty = Slot {
+            key: EMPTY,
+            start: 0,
+            len: 0,
+        };
         Self {
             slots: vec![empty; cap].into_boxed_slice(),
             mask: cap - 1,
@@ -105,7 +109,11 @@ mod tests {
             t.insert(k * 7, k as u32, 1 + (k % 3) as u32);
         }
         for k in 0..7000u64 {
-            let want = if k % 7 == 0 { ((k / 7) as u32, 1 + ((k / 7) % 3) as u32) } else { (0, 0) };
+            let want = if k % 7 == 0 {
+                ((k / 7) as u32, 1 + ((k / 7) % 3) as u32)
+            } else {
+                (0, 0)
+            };
             assert_eq!(t.get(k), want);
         }
         assert_eq!(t.occupied().count(), 1000);

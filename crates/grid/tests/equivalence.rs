@@ -10,8 +10,15 @@ use proptest::prelude::*;
 
 /// `cases` cases, or `PROPTEST_CASES` when set (for a long soak run).
 fn cfg(cases: u32) -> ProptestConfig {
-    let cases = std::env::var("PROPTEST_CASES").ok().and_then(|s| s.parse().ok()).unwrap_or(cases);
-    ProptestConfig { cases, failure_persistence: None, ..ProptestConfig::default() }
+    let cases = std::env::var("PROPTEST_CASES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(cases);
+    ProptestConfig {
+        cases,
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    }
 }
 
 fn vec3(c: impl Strategy<Value = Real> + Clone) -> impl Strategy<Value = Vec3> {
@@ -41,12 +48,16 @@ fn direction() -> impl Strategy<Value = Vec3> {
     vec3(dir_comp()).prop_filter("non-zero direction", |d| d.length_squared() > 1e-6)
 }
 
-fn sphere(c: impl Strategy<Value = Real> + Clone, radii: impl Strategy<Value = Real>) -> impl Strategy<Value = Shape> {
+fn sphere(
+    c: impl Strategy<Value = Real> + Clone,
+    radii: impl Strategy<Value = Real>,
+) -> impl Strategy<Value = Shape> {
     (vec3(c), radii).prop_map(|(p, r)| Shape::Sphere(Sphere::new(p, r)))
 }
 
 fn triangle(c: impl Strategy<Value = Real> + Clone) -> impl Strategy<Value = Shape> {
-    (vec3(c.clone()), vec3(c.clone()), vec3(c)).prop_map(|(a, b, c)| Shape::Triangle(Triangle::new(a, b, c)))
+    (vec3(c.clone()), vec3(c.clone()), vec3(c))
+        .prop_map(|(a, b, c)| Shape::Triangle(Triangle::new(a, b, c)))
 }
 
 /// Triangles over a small pool of lattice points: many shared edges and vertices.
@@ -61,13 +72,17 @@ fn fan(pool: Vec<Vec3>, n: usize) -> impl Strategy<Value = Vec<Shape>> {
 }
 
 /// Rays: an origin, a direction and a range.
-fn rays(origin: impl Strategy<Value = Real> + Clone, n: usize) -> impl Strategy<Value = Vec<(Vec3, Vec3, Real, Real)>> {
+fn rays(
+    origin: impl Strategy<Value = Real> + Clone,
+    n: usize,
+) -> impl Strategy<Value = Vec<(Vec3, Vec3, Real, Real)>> {
     let range = prop_oneof![
         3 => Just((0.0 as Real, Real::INFINITY)),
         1 => (0.0 as Real..3.0, 0.0 as Real..6.0).prop_map(|(a, b)| (a, a + b)),
         1 => (0.0 as Real..4.0).prop_map(|a| (a, a)),
     ];
-    prop::collection::vec((vec3(origin), direction(), range), n).prop_map(|v| v.into_iter().map(|(o, d, (a, b))| (o, d, a, b)).collect())
+    prop::collection::vec((vec3(origin), direction(), range), n)
+        .prop_map(|v| v.into_iter().map(|(o, d, (a, b))| (o, d, a, b)).collect())
 }
 
 fn run(scene: Vec<Shape>, configs: &[GridConfig], rays: &[(Vec3, Vec3, Real, Real)]) {
@@ -81,7 +96,13 @@ fn run(scene: Vec<Shape>, configs: &[GridConfig], rays: &[(Vec3, Vec3, Real, Rea
 
 /// Two small triangles that pin the grid box to exactly `[−4, 4]³`.
 fn pins() -> Vec<Shape> {
-    let t = |a: Real, b: Real| Shape::Triangle(Triangle::new(Vec3::splat(a), Vec3::new(a, a, b), Vec3::new(b, a, a)));
+    let t = |a: Real, b: Real| {
+        Shape::Triangle(Triangle::new(
+            Vec3::splat(a),
+            Vec3::new(a, a, b),
+            Vec3::new(b, a, a),
+        ))
+    };
     vec![t(-4.0, -3.5), t(4.0, 3.5)]
 }
 
@@ -90,7 +111,10 @@ fn pins() -> Vec<Shape> {
 fn aligned_configs() -> Vec<GridConfig> {
     let mut v = all_configs();
     for d in [8, 16] {
-        v.extend(all_configs().into_iter().map(|c| GridConfig { dims: Some([d, d, d]), ..c }));
+        v.extend(all_configs().into_iter().map(|c| GridConfig {
+            dims: Some([d, d, d]),
+            ..c
+        }));
     }
     v
 }

@@ -22,7 +22,10 @@ fn tri(a: Vec3, b: Vec3, c: Vec3) -> Shape {
 /// whose cell planes are exactly the integers 0..=8.
 fn lattice_configs() -> Vec<GridConfig> {
     let mut v = all_configs();
-    v.extend(all_configs().into_iter().map(|c| GridConfig { dims: Some([8, 8, 8]), ..c }));
+    v.extend(all_configs().into_iter().map(|c| GridConfig {
+        dims: Some([8, 8, 8]),
+        ..c
+    }));
     v
 }
 
@@ -76,7 +79,12 @@ fn axis_dirs() -> Vec<Vec3> {
     d
 }
 
-fn check_all(c: &Checker<Shape>, origins: &[Vec3], dirs: &[Vec3], ranges: &[(Real, Real)]) -> usize {
+fn check_all(
+    c: &Checker<Shape>,
+    origins: &[Vec3],
+    dirs: &[Vec3],
+    ranges: &[(Real, Real)],
+) -> usize {
     let mut hits = 0;
     for &o in origins {
         for &d in dirs {
@@ -103,7 +111,12 @@ fn lattice_origins() -> Vec<Vec3> {
 #[test]
 fn axis_parallel_rays_with_origin_on_cell_planes() {
     let c = Checker::new(lattice_scene(), &lattice_configs());
-    let hits = check_all(&c, &lattice_origins(), &axis_dirs(), &[(0.0, Real::INFINITY)]);
+    let hits = check_all(
+        &c,
+        &lattice_origins(),
+        &axis_dirs(),
+        &[(0.0, Real::INFINITY)],
+    );
     assert!(hits > 1000, "the scene should be hit often, got {hits}");
 }
 
@@ -115,10 +128,21 @@ fn rays_along_cell_edges() {
     for i in 0..=8 {
         for j in 0..=8 {
             let (a, b) = (i as Real, j as Real);
-            origins.extend([v(a, b, -1.0), v(a, b, 9.0), v(a, -1.0, b), v(9.0, a, b), v(a, b, 4.0)]);
+            origins.extend([
+                v(a, b, -1.0),
+                v(a, b, 9.0),
+                v(a, -1.0, b),
+                v(9.0, a, b),
+                v(a, b, 4.0),
+            ]);
         }
     }
-    let hits = check_all(&c, &origins, &axis_dirs(), &[(0.0, Real::INFINITY), (0.5, 6.0)]);
+    let hits = check_all(
+        &c,
+        &origins,
+        &axis_dirs(),
+        &[(0.0, Real::INFINITY), (0.5, 6.0)],
+    );
     assert!(hits > 100);
 }
 
@@ -153,11 +177,24 @@ fn negative_zero_direction_components() {
         v(-0.0, 1.0, 1.0),
         v(-1.0, -0.0, -1.0),
     ];
-    let hits = check_all(&c, &lattice_origins(), &dirs, &[(0.0, Real::INFINITY), (-Real::INFINITY, 3.0)]);
+    let hits = check_all(
+        &c,
+        &lattice_origins(),
+        &dirs,
+        &[(0.0, Real::INFINITY), (-Real::INFINITY, 3.0)],
+    );
     assert!(hits > 100);
     // A −0.0 component must never step its axis.
-    let g = &c.grids[4];
-    for visit in g.cells_along(&Ray::new(v(4.0, 2.0, 9.0), v(-0.0, -0.0, -1.0)), 0.0, Real::INFINITY) {
+    let g = c
+        .grids
+        .iter()
+        .find(|g| g.dims() == [8, 8, 8])
+        .expect("an 8³ grid");
+    for visit in g.cells_along(
+        &Ray::new(v(4.0, 2.0, 9.0), v(-0.0, -0.0, -1.0)),
+        0.0,
+        Real::INFINITY,
+    ) {
         assert_eq!(visit.index[0], 4);
         assert_eq!(visit.index[1], 2);
     }
@@ -177,8 +214,14 @@ fn origin_exactly_on_the_grid_max_face() {
     dirs.extend([v(-1.0, -1.0, -1.0), v(-1.0, -0.5, -0.25), v(1.0, 1.0, 1.0)]);
     check_all(&c, &origins, &dirs, &[(0.0, Real::INFINITY)]);
     // The walk starts in the last cell.
-    let g = c.grids.iter().find(|g| g.dims() == [8, 8, 8]).expect("an 8³ grid");
-    let first = g.cells_along(&Ray::new(v(8.0, 8.0, 8.0), v(-1.0, -1.0, -1.0)), 0.0, 100.0).next();
+    let g = c
+        .grids
+        .iter()
+        .find(|g| g.dims() == [8, 8, 8])
+        .expect("an 8³ grid");
+    let first = g
+        .cells_along(&Ray::new(v(8.0, 8.0, 8.0), v(-1.0, -1.0, -1.0)), 0.0, 100.0)
+        .next();
     assert_eq!(first.map(|c| c.index), Some([7, 7, 7]));
     let along = g.cells_along(&Ray::new(v(8.0, 3.5, 3.5), v(-0.0, 1.0, 0.0)), 0.0, 100.0);
     assert!(along.map(|c| c.index[0]).all(|i| i == 7));
@@ -187,8 +230,19 @@ fn origin_exactly_on_the_grid_max_face() {
 #[test]
 fn origin_inside_and_outside_with_positive_t_min() {
     let c = Checker::new(lattice_scene(), &lattice_configs());
-    let origins = [v(-3.0, 2.5, 2.5), v(3.3, 2.5, 2.5), v(4.0, 2.0, 2.0), v(0.5, 0.5, -4.0), v(5.5, 5.5, 5.5)];
-    let dirs = [v(1.0, 0.0, 0.0), v(0.0, 0.0, 1.0), v(1.0, 0.25, 0.125), v(-0.3, -0.2, -1.0)];
+    let origins = [
+        v(-3.0, 2.5, 2.5),
+        v(3.3, 2.5, 2.5),
+        v(4.0, 2.0, 2.0),
+        v(0.5, 0.5, -4.0),
+        v(5.5, 5.5, 5.5),
+    ];
+    let dirs = [
+        v(1.0, 0.0, 0.0),
+        v(0.0, 0.0, 1.0),
+        v(1.0, 0.25, 0.125),
+        v(-0.3, -0.2, -1.0),
+    ];
     let mut ranges = vec![(0.0, Real::INFINITY)];
     for t in [0.25, 1.0, 2.0, 3.5, 4.0, 5.0, 6.5, 9.0, 20.0] {
         ranges.push((t, Real::INFINITY));
@@ -204,7 +258,11 @@ fn primitive_spanning_many_cells_hit_in_a_later_cell() {
     let slope = 0.0645;
     let z_at = |x: Real| 2.5 + (6.3 - x) * slope;
     let mut s = vec![
-        tri(v(0.0, 0.0, z_at(0.0)), v(0.0, 8.0, z_at(0.0)), v(8.0, 0.0, z_at(8.0))),
+        tri(
+            v(0.0, 0.0, z_at(0.0)),
+            v(0.0, 8.0, z_at(0.0)),
+            v(8.0, 0.0, z_at(8.0)),
+        ),
         sph(0.5, 0.5, 0.5, 0.5),
         sph(7.5, 7.5, 7.5, 0.5),
     ];
@@ -218,7 +276,10 @@ fn primitive_spanning_many_cells_hit_in_a_later_cell() {
         assert!((h.t - 7.3).abs() < 1e-3, "t = {}", h.t);
         // The first cell holds the triangle, so the mailbox stamps it there.
         for g in c.grids.iter().filter(|g| g.dims() == [8, 8, 8]) {
-            let first = g.cells_along(&ray, 0.0, Real::INFINITY).next().expect("a cell");
+            let first = g
+                .cells_along(&ray, 0.0, Real::INFINITY)
+                .next()
+                .expect("a cell");
             assert!(g.cell_refs(first.index).contains(&0), "{:?}", g.config());
         }
     }
@@ -242,7 +303,13 @@ fn hit_exactly_on_a_cell_plane() {
         sph(7.5, 7.5, 7.5, 0.5),
     ];
     let c = Checker::new(s, &lattice_configs());
-    let h = c.check(&Ray::new(v(-1.0, 2.5, 2.5), v(1.0, 0.0, 0.0)), 0.0, Real::INFINITY).expect("hit");
+    let h = c
+        .check(
+            &Ray::new(v(-1.0, 2.5, 2.5), v(1.0, 0.0, 0.0)),
+            0.0,
+            Real::INFINITY,
+        )
+        .expect("hit");
     assert_eq!(h.t, 5.0);
     for x in [1.5, 2.0, 2.5, 3.0] {
         for y in [1.0, 1.5, 2.0, 2.5] {
@@ -271,9 +338,19 @@ fn hit_exactly_on_a_cell_plane() {
 fn all_objects_in_one_cell() {
     let mut rng = crate::support::scenes::Lcg::new(3);
     let s: Vec<Shape> = (0..60)
-        .map(|_| sph(rng.range(0.0, 1.0), rng.range(0.0, 1.0), rng.range(0.0, 1.0), 0.05))
+        .map(|_| {
+            sph(
+                rng.range(0.0, 1.0),
+                rng.range(0.0, 1.0),
+                rng.range(0.0, 1.0),
+                0.05,
+            )
+        })
         .collect();
-    let configs: Vec<GridConfig> = all_configs().into_iter().map(|c| GridConfig { max_cells: 1, ..c }).collect();
+    let configs: Vec<GridConfig> = all_configs()
+        .into_iter()
+        .map(|c| GridConfig { max_cells: 1, ..c })
+        .collect();
     let c = Checker::new(s.clone(), &configs);
     assert_eq!(c.grids[0].dims(), [1, 1, 1]);
     assert_eq!(c.grids[0].stats().references, 60);
@@ -287,8 +364,15 @@ fn all_objects_in_one_cell() {
 #[test]
 fn one_object() {
     let c = Checker::all(vec![sph(1.0, 2.0, 3.0, 0.5)]);
-    assert!(c.grids.iter().all(|g| g.dims() == [2, 2, 2] || g.dims().iter().all(|&n| n >= 1)));
-    let h = c.check(&Ray::new(v(1.0, 2.0, -5.0), v(0.0, 0.0, 1.0)), 0.0, Real::INFINITY);
+    assert!(c
+        .grids
+        .iter()
+        .all(|g| g.dims() == [2, 2, 2] || g.dims().iter().all(|&n| n >= 1)));
+    let h = c.check(
+        &Ray::new(v(1.0, 2.0, -5.0), v(0.0, 0.0, 1.0)),
+        0.0,
+        Real::INFINITY,
+    );
     assert_eq!(h.map(|h| h.prim), Some(0));
     random_rays(&c, v(1.0, 2.0, 3.0), 1.0, 300);
     // A single point-sized object: one cell.
@@ -317,7 +401,10 @@ fn empty_scene() {
 
 #[test]
 fn all_coordinates_negative() {
-    let s: Vec<Shape> = lattice_scene().into_iter().map(|p| translate(p, v(-100.0, -50.5, -20.25))).collect();
+    let s: Vec<Shape> = lattice_scene()
+        .into_iter()
+        .map(|p| translate(p, v(-100.0, -50.5, -20.25)))
+        .collect();
     let c = Checker::all(s);
     assert!(c.grids[0].bounds().max.max_element() < 0.0);
     random_rays(&c, v(-96.0, -46.5, -16.25), 8.0, 400);
@@ -341,12 +428,25 @@ fn translated_scene(offset: Real) {
     let base = v(offset, -offset, offset * 0.5);
     let s: Vec<Shape> = (0..150)
         .map(|i| {
-            let p = base + v(rng.range(0.0, 40.0), rng.range(0.0, 40.0), rng.range(0.0, 40.0)) * scale;
+            let p = base
+                + v(
+                    rng.range(0.0, 40.0),
+                    rng.range(0.0, 40.0),
+                    rng.range(0.0, 40.0),
+                ) * scale;
             if i % 2 == 0 {
                 Shape::Sphere(Sphere::new(p, 3.0 * scale))
             } else {
-                let q = p + v(rng.range(-6.0, 6.0), rng.range(-6.0, 6.0), rng.range(-6.0, 6.0)) * scale;
-                let r = p + v(rng.range(-6.0, 6.0), rng.range(-6.0, 6.0), rng.range(-6.0, 6.0)) * scale;
+                let q = p + v(
+                    rng.range(-6.0, 6.0),
+                    rng.range(-6.0, 6.0),
+                    rng.range(-6.0, 6.0),
+                ) * scale;
+                let r = p + v(
+                    rng.range(-6.0, 6.0),
+                    rng.range(-6.0, 6.0),
+                    rng.range(-6.0, 6.0),
+                ) * scale;
                 tri(p, q, r)
             }
         })
@@ -376,7 +476,10 @@ fn huge_extents() {
 
 #[test]
 fn objects_larger_than_the_cells_enclosing_everything() {
-    let mut s = vec![sph(4.0, 4.0, 4.0, 6.0), tri(v(-3.0, -3.0, 4.0), v(11.0, -3.0, 4.0), v(4.0, 11.0, 4.0))];
+    let mut s = vec![
+        sph(4.0, 4.0, 4.0, 6.0),
+        tri(v(-3.0, -3.0, 4.0), v(11.0, -3.0, 4.0), v(4.0, 11.0, 4.0)),
+    ];
     s.extend(lattice_scene());
     let c = Checker::all(s);
     // From inside the enclosing sphere, outwards and through everything.
@@ -399,13 +502,25 @@ fn denormal_direction_components() {
     check_all(&c, &lattice_origins(), &dirs, &[(0.0, Real::INFINITY)]);
     // Tiny but normal components whose reciprocals stay finite.
     let small = Real::MIN_POSITIVE * 4.0;
-    check_all(&c, &lattice_origins(), &[v(small, 0.0, -1.0), v(1.0, -small, small)], &[(0.0, Real::INFINITY)]);
+    check_all(
+        &c,
+        &lattice_origins(),
+        &[v(small, 0.0, -1.0), v(1.0, -small, small)],
+        &[(0.0, Real::INFINITY)],
+    );
 }
 
 #[test]
 fn t_max_zero_and_t_min_equal_to_t_max() {
     let c = Checker::new(lattice_scene(), &lattice_configs());
-    let mut ranges = vec![(0.0, 0.0), (-0.0, 0.0), (1.0, 1.0), (0.5, 0.5), (3.0, 3.0), (2.0, 1.0)];
+    let mut ranges = vec![
+        (0.0, 0.0),
+        (-0.0, 0.0),
+        (1.0, 1.0),
+        (0.5, 0.5),
+        (3.0, 3.0),
+        (2.0, 1.0),
+    ];
     ranges.push((Real::NAN, 1.0));
     ranges.push((0.0, Real::NAN));
     let mut dirs = axis_dirs();
@@ -440,7 +555,10 @@ struct Ground;
 
 impl Primitive for Ground {
     fn bounds(&self) -> Aabb {
-        Aabb::new(v(-Real::INFINITY, 0.0, -Real::INFINITY), v(Real::INFINITY, 0.0, Real::INFINITY))
+        Aabb::new(
+            v(-Real::INFINITY, 0.0, -Real::INFINITY),
+            v(Real::INFINITY, 0.0, Real::INFINITY),
+        )
     }
     fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
         let t = -ray.origin.y / ray.dir.y;
@@ -480,22 +598,49 @@ fn unbounded_primitives_are_tested_by_every_query() {
     }
     let mut rng = crate::support::scenes::Lcg::new(5);
     for _ in 0..300 {
-        let o = v(rng.range(-2.0, 10.0), rng.range(-1.0, 10.0), rng.range(-2.0, 10.0));
-        let d = v(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
+        let o = v(
+            rng.range(-2.0, 10.0),
+            rng.range(-1.0, 10.0),
+            rng.range(-2.0, 10.0),
+        );
+        let d = v(
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+        );
         c.check(&Ray::new(o, d), 0.0, Real::INFINITY);
     }
 }
 
 /// Random rays from points around `center` (within `radius`) in random
 /// directions, checked against the exhaustive answer; returns the hits.
-fn random_rays<P: Primitive + Clone + std::fmt::Debug>(c: &Checker<P>, center: Vec3, radius: Real, n: usize) -> usize {
+fn random_rays<P: Primitive + Clone + std::fmt::Debug>(
+    c: &Checker<P>,
+    center: Vec3,
+    radius: Real,
+    n: usize,
+) -> usize {
     let mut rng = crate::support::scenes::Lcg::new(99);
     let mut hits = 0;
     for i in 0..n {
-        let o = center + v(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * (2.0 * radius);
-        let target = center + v(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * (0.5 * radius);
+        let o = center
+            + v(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            ) * (2.0 * radius);
+        let target = center
+            + v(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            ) * (0.5 * radius);
         let d = target - o;
-        let (t0, t1) = if i % 5 == 4 { (0.3, 0.9) } else { (0.0, Real::INFINITY) };
+        let (t0, t1) = if i % 5 == 4 {
+            (0.3, 0.9)
+        } else {
+            (0.0, Real::INFINITY)
+        };
         hits += usize::from(c.check(&Ray::new(o, d), t0, t1).is_some());
     }
     hits
@@ -504,6 +649,8 @@ fn random_rays<P: Primitive + Clone + std::fmt::Debug>(c: &Checker<P>, center: V
 fn translate(s: Shape, by: Vec3) -> Shape {
     match s {
         Shape::Sphere(p) => Shape::Sphere(Sphere::new(p.center + by, p.radius)),
-        Shape::Triangle(t) => Shape::Triangle(Triangle { v: t.v.map(|p| p + by) }),
+        Shape::Triangle(t) => Shape::Triangle(Triangle {
+            v: t.v.map(|p| p + by),
+        }),
     }
 }

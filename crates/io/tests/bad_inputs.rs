@@ -160,6 +160,14 @@ const CASES: &[(&str, &[&str])] = &[
         ],
     ),
     (
+        "gltf_bad_accessor_index.gltf",
+        &[
+            "gltf_bad_accessor_index.gltf: mesh 0, primitive 0",
+            "accessor 5",
+            "1 accessors",
+        ],
+    ),
+    (
         "gltf_invalid_json.gltf",
         &["gltf_invalid_json.gltf:3:25:", "invalid glTF JSON"],
     ),

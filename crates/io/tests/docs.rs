@@ -51,9 +51,10 @@ fn wrap(block: &str) -> Vec<String> {
                 ))
             })
             .collect()
-    } else if h.starts_with("camera:") || h.starts_with("settings:") || h.starts_with("lights:") {
-        vec![scene(&format!("{block}\nobjects: [{SPHERE}],"))]
-    } else if h.starts_with("materials:") {
+    } else if ["camera:", "settings:", "lights:", "materials:"]
+        .iter()
+        .any(|k| h.starts_with(k))
+    {
         vec![scene(&format!("{block}\nobjects: [{SPHERE}],"))]
     } else if ["Translate(", "Scale(", "Rotate(", "Euler(", "Matrix("]
         .iter()

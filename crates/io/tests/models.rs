@@ -249,3 +249,31 @@ fn scene_meshes_take_transforms_and_material_overrides() {
     let p: Vec<Vec3> = t.iter().map(|&k| front.positions[k as usize]).collect();
     assert!((p[1] - p[0]).cross(p[2] - p[0]).z > 0.0);
 }
+
+#[test]
+fn obj_normals_quads_and_relative_indices() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("quad.obj");
+    std::fs::write(
+        &p,
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 2\n\
+         o first\nf 1//1 2//1 3//1 4//1\n\
+         o second\nf -4//-1 -2//-1 -1//-1\n",
+    )
+    .unwrap();
+    let m = load_model(&p).unwrap();
+    let names: Vec<&str> = m.meshes.iter().map(|x| x.mesh.name.as_str()).collect();
+    assert_eq!(names, ["quad.obj:first", "quad.obj:second"]);
+    let t: Vec<[Vec3; 3]> = m.triangles().collect();
+    // The quad is fanned: (1 2 3), (1 3 4); then the relative face (1 3 4).
+    let v = |x: Real, y: Real| Vec3::new(x, y, 0.0);
+    assert_eq!(t[0], [v(0.0, 0.0), v(1.0, 0.0), v(1.0, 1.0)]);
+    assert_eq!(t[1], [v(0.0, 0.0), v(1.0, 1.0), v(0.0, 1.0)]);
+    assert_eq!(t[2], [v(0.0, 0.0), v(1.0, 1.0), v(0.0, 1.0)]);
+    // Normals are kept, one per vertex, and normalised.
+    let mesh = &m.meshes[0].mesh;
+    assert_eq!(mesh.normals.len(), mesh.positions.len());
+    assert!(mesh.normals.iter().all(|n| close(*n, Vec3::Z)));
+    // No material library: every mesh gets the default material.
+    assert!(m.meshes.iter().all(|x| x.material.is_none()));
+}

@@ -43,7 +43,10 @@ impl CameraModel {
         let w = (eye - look_at)
             .try_normalize()
             .ok_or(SceneError::CameraEyeAtLookAt)?;
-        let u = up.cross(w).try_normalize().ok_or(SceneError::CameraUpParallel)?;
+        let u = up
+            .cross(w)
+            .try_normalize()
+            .ok_or(SceneError::CameraUpParallel)?;
         let v = w.cross(u);
         let half_w = width as Real * 0.5;
         let half_h = height as Real * 0.5;
@@ -151,7 +154,14 @@ mod tests {
     #[test]
     fn view_plane_matches_suffern_bit_for_bit() {
         let cam = suffern();
-        for (c, r) in [(0u32, 0u32), (399, 0), (0, 399), (123, 287), (200, 200), (399, 399)] {
+        for (c, r) in [
+            (0u32, 0u32),
+            (399, 0),
+            (0, 399),
+            (123, 287),
+            (200, 200),
+            (399, 399),
+        ] {
             let ray = cam.ray(c, r, 0.5, 0.5);
             // What Suffern / the Embree peer compute, in the same precision.
             let dx = (c as f64 - 200.0 + 0.5) as Real;
@@ -205,14 +215,26 @@ mod tests {
             up: Vec3::Y,
             projection: Projection::Perspective { vfov_deg: 60.0 },
         };
-        assert_eq!(CameraModel::new(&cam, 4, 4), Err(SceneError::CameraEyeAtLookAt));
+        assert_eq!(
+            CameraModel::new(&cam, 4, 4),
+            Err(SceneError::CameraEyeAtLookAt)
+        );
         cam.look_at = Vec3::new(1.0, 5.0, 1.0);
-        assert_eq!(CameraModel::new(&cam, 4, 4), Err(SceneError::CameraUpParallel));
+        assert_eq!(
+            CameraModel::new(&cam, 4, 4),
+            Err(SceneError::CameraUpParallel)
+        );
         cam.up = Vec3::X;
         cam.projection = Projection::Perspective { vfov_deg: 180.0 };
-        assert!(matches!(CameraModel::new(&cam, 4, 4), Err(SceneError::CameraProjection { .. })));
+        assert!(matches!(
+            CameraModel::new(&cam, 4, 4),
+            Err(SceneError::CameraProjection { .. })
+        ));
         cam.projection = Projection::Perspective { vfov_deg: 60.0 };
         cam.eye.x = Real::NAN;
-        assert!(matches!(CameraModel::new(&cam, 4, 4), Err(SceneError::CameraNotFinite { .. })));
+        assert!(matches!(
+            CameraModel::new(&cam, 4, 4),
+            Err(SceneError::CameraNotFinite { .. })
+        ));
     }
 }

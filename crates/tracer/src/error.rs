@@ -41,7 +41,9 @@ pub enum SceneError {
         what: &'static str,
     },
     /// `eye == look_at`: no view direction.
-    #[error("camera: eye and look_at are the same point; move look_at to where the camera should look")]
+    #[error(
+        "camera: eye and look_at are the same point; move look_at to where the camera should look"
+    )]
     CameraEyeAtLookAt,
     /// `up` is zero or parallel to the view direction.
     #[error("camera: the up vector is zero or parallel to the view direction; pick an up vector across it (e.g. +y)")]
@@ -159,7 +161,9 @@ pub enum SceneError {
         spheres: usize,
     },
     /// More primitives than a `u32` index can name.
-    #[error("the scene has {count} primitives (triangles count one each), more than 2^32 − 1; split it")]
+    #[error(
+        "the scene has {count} primitives (triangles count one each), more than 2^32 − 1; split it"
+    )]
     TooManyPrimitives {
         /// How many.
         count: usize,

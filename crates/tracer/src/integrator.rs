@@ -157,8 +157,16 @@ where
     /// planes, which win only when strictly nearer (they come after every
     /// primitive in index order, so ties keep the lower index).
     #[inline]
-    pub(crate) fn closest(&self, ray: &Ray, t_max: Real, scratch: &mut A::Scratch) -> Option<Found> {
-        let mut best = self.accel.closest_hit(ray, 0.0, t_max, scratch).map(Found::Prim);
+    pub(crate) fn closest(
+        &self,
+        ray: &Ray,
+        t_max: Real,
+        scratch: &mut A::Scratch,
+    ) -> Option<Found> {
+        let mut best = self
+            .accel
+            .closest_hit(ray, 0.0, t_max, scratch)
+            .map(Found::Prim);
         if !self.data.planes.is_empty() {
             let mut far = best.map_or(t_max, |b| b.t());
             for (i, p) in self.data.planes.iter().enumerate() {
@@ -305,7 +313,17 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
             Material::Matte { color, ka, kd } => {
                 let color = sh.albedo.unwrap_or(color);
                 let (ng, ns) = face_forward(sh.sp.n, sh.ns, wo);
-                Self::direct(tr, &sh.sp, ng, ns, wo, color * ka, color * (kd * FRAC_1_PI), None, ts)
+                Self::direct(
+                    tr,
+                    &sh.sp,
+                    ng,
+                    ns,
+                    wo,
+                    color * ka,
+                    color * (kd * FRAC_1_PI),
+                    None,
+                    ts,
+                )
             }
             Material::Phong {
                 color,
@@ -318,7 +336,17 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
                 let color = sh.albedo.unwrap_or(color);
                 let (ng, ns) = face_forward(sh.sp.n, sh.ns, wo);
                 let spec = Some((specular * ks, exp));
-                Self::direct(tr, &sh.sp, ng, ns, wo, color * ka, color * (kd * FRAC_1_PI), spec, ts)
+                Self::direct(
+                    tr,
+                    &sh.sp,
+                    ng,
+                    ns,
+                    wo,
+                    color * ka,
+                    color * (kd * FRAC_1_PI),
+                    spec,
+                    ts,
+                )
             }
             Material::Reflective {
                 color,
@@ -333,7 +361,17 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
                 let (ng, ns) = face_forward(sh.sp.n, sh.ns, wo);
                 // Suffern's Reflective extends Phong with a white highlight.
                 let spec = (ks != 0.0).then_some((Rgb::splat(ks), exp));
-                let mut l = Self::direct(tr, &sh.sp, ng, ns, wo, color * ka, color * (kd * FRAC_1_PI), spec, ts);
+                let mut l = Self::direct(
+                    tr,
+                    &sh.sp,
+                    ng,
+                    ns,
+                    wo,
+                    color * ka,
+                    color * (kd * FRAC_1_PI),
+                    spec,
+                    ts,
+                );
                 if REFLECT && depth < tr.data.max_depth && kr != 0.0 {
                     let wr = reflect(wo, ns);
                     let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wr);
@@ -380,7 +418,9 @@ fn point_shadow_t_max() -> Real {
     1.0 - gamma(16)
 }
 
-impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Whitted<SHADOWS, REFLECT, REFRACT> {
+impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
+    Whitted<SHADOWS, REFLECT, REFRACT>
+{
     /// Ambient plus direct lighting with Suffern's BRDFs: Lambert `kd·cd/π`
     /// and, with `spec = (ks·cs, exp)`, the glossy `ks·cs·(r·wo)^exp`; each
     /// light contributes `f · L · cos θ`.

@@ -48,6 +48,12 @@
 //! println!("{stats}");
 //! ```
 //!
+//! Huge sphere scenes (Suffern's benchmark with a million spheres) are
+//! cheaper as a [`SphereSet`] given to [`Renderer::with_spheres`] than as a
+//! million [`Object`]s; [`suffern::renderer`] does that. A scene of spheres
+//! (and planes) only is rendered over a grid of compact [`Sphere`]s, any
+//! other scene over a grid of [`Shape`]s; planes stay outside the grid.
+//!
 //! # Features
 //! - `rayon` (default): render tiles (and build the grid) in parallel on a
 //!   local thread pool; without it everything runs on the calling thread.

@@ -127,7 +127,12 @@ impl EffectPlan {
     pub(crate) fn derive(scene: &Scene, extra: Option<(usize, u32)>) -> Self {
         let mut used = vec![false; scene.materials.len()];
         let extra = extra.filter(|e| e.0 > 0);
-        for m in scene.objects.iter().map(|o| o.material).chain(extra.map(|e| e.1)) {
+        for m in scene
+            .objects
+            .iter()
+            .map(|o| o.material)
+            .chain(extra.map(|e| e.1))
+        {
             if let Some(u) = used.get_mut(m as usize) {
                 *u = true;
             }
@@ -228,11 +233,19 @@ fn on_off(b: bool) -> &'static str {
 impl fmt::Display for EffectPlan {
     /// One effect per line, for the render summary.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "integrator  {} (max depth {})", self.integrator, self.max_depth)?;
+        writeln!(
+            f,
+            "integrator  {} (max depth {})",
+            self.integrator, self.max_depth
+        )?;
         if self.jitter {
             writeln!(f, "samples     {} per pixel, stratified jitter", self.spp)?;
         } else {
-            writeln!(f, "samples     {} per pixel, pixel centre (no jitter)", self.spp)?;
+            writeln!(
+                f,
+                "samples     {} per pixel, pixel centre (no jitter)",
+                self.spp
+            )?;
         }
         writeln!(
             f,

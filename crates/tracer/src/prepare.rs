@@ -50,7 +50,12 @@ fn coef_ok(k: f32) -> bool {
 }
 
 fn check_material(i: usize, m: &Material) -> Result<(), SceneError> {
-    let bad = |reason| Err(SceneError::BadMaterial { material: i, reason });
+    let bad = |reason| {
+        Err(SceneError::BadMaterial {
+            material: i,
+            reason,
+        })
+    };
     match *m {
         Material::Matte { color, ka, kd } => {
             if !color_ok(color) {
@@ -408,7 +413,13 @@ fn shading_data(scene: &Scene, plan: &EffectPlan) -> SceneData {
 }
 
 /// Fills `data` with the primitives' materials and returns the primitives.
-fn convert(scene: &Scene, set: Option<SphereSet>, count: usize, all_spheres: bool, data: &mut SceneData) -> Prims {
+fn convert(
+    scene: &Scene,
+    set: Option<SphereSet>,
+    count: usize,
+    all_spheres: bool,
+    data: &mut SceneData,
+) -> Prims {
     let set_material = set.as_ref().map(|s| s.material);
     let set_len = set.as_ref().map_or(0, |s| s.spheres.len());
     let set_colors = set.as_ref().is_some_and(|s| !s.colors.is_empty());
@@ -525,7 +536,8 @@ fn convert(scene: &Scene, set: Option<SphereSet>, count: usize, all_spheres: boo
                 per_prim.resize(per_prim.len() + n, set.material);
             }
             if smooth {
-                data.prim_mesh.resize(data.prim_mesh.len() + n, MeshRef::NONE);
+                data.prim_mesh
+                    .resize(data.prim_mesh.len() + n, MeshRef::NONE);
             }
         }
         Prims::Shapes(shapes)

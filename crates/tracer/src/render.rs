@@ -1,6 +1,7 @@
 //! The public render API: options, the prepared [`Renderer`], the
 //! framebuffer and statistics, and the tile loop (parallel with rayon).
 
+use crate::camera::CameraModel;
 use crate::error::{Cancelled, SceneError};
 use crate::integrator::{Found, Integrator, Li, SceneData, Shading, ThreadState, Tracer, Whitted};
 use crate::plan::{EffectPlan, RayCounts};
@@ -8,7 +9,6 @@ use crate::prepare::{prepare, Prepared, Prims, SphereSet};
 use crate::sampler::{cmj, pixel_pattern};
 use crate::scene::{Rgb, Scene};
 use crate::shapes::{Shape, Sphere, Surface};
-use crate::camera::CameraModel;
 use gridrt_bbox::{Ray, Real, Vec3};
 use gridrt_grid::{Accelerator, CellStorage, Exhaustive, Grid, GridConfig, GridStats, Primitive};
 use std::fmt;
@@ -83,7 +83,10 @@ impl Framebuffer {
     #[inline]
     #[must_use]
     pub fn get(&self, x: u32, y: u32) -> Rgb {
-        assert!(x < self.width && y < self.height, "pixel ({x}, {y}) outside the image");
+        assert!(
+            x < self.width && y < self.height,
+            "pixel ({x}, {y}) outside the image"
+        );
         self.pixels[y as usize * self.width as usize + x as usize]
     }
 
@@ -102,17 +105,26 @@ pub struct RenderStats {
     /// The effects simulated.
     pub plan: EffectPlan,
     /// Building the accelerator (and preparing the scene).
-    #[cfg_attr(feature = "serde", serde(serialize_with = "crate::serde_support::duration_secs"))]
+    #[cfg_attr(
+        feature = "serde",
+        serde(serialize_with = "crate::serde_support::duration_secs")
+    )]
     pub build_time: Duration,
     /// Rendering the pixels.
-    #[cfg_attr(feature = "serde", serde(serialize_with = "crate::serde_support::duration_secs"))]
+    #[cfg_attr(
+        feature = "serde",
+        serde(serialize_with = "crate::serde_support::duration_secs")
+    )]
     pub render_time: Duration,
     /// Rays traced, by kind.
     pub rays: RayCounts,
     /// Pixels where at least one camera ray hit something.
     pub pixels_hit: u64,
     /// The grid's statistics (`None` for the exhaustive accelerator).
-    #[cfg_attr(feature = "serde", serde(serialize_with = "crate::serde_support::grid_stats"))]
+    #[cfg_attr(
+        feature = "serde",
+        serde(serialize_with = "crate::serde_support::grid_stats")
+    )]
     pub grid: Option<GridStats>,
 }
 
@@ -188,8 +200,7 @@ enum Accel {
 }
 
 /// A scene prepared for rendering: validated, accelerator built, effect
-/// plan derived. Render it as often as needed.
-#[derive(Debug)]
+/// plan derived. Render it as often as needed (it is immutable and `Sync`).
 pub struct Renderer {
     accel: Accel,
     data: SceneData,
@@ -202,6 +213,26 @@ pub struct Renderer {
     grid_stats: Option<GridStats>,
     prim_count: usize,
     pool: Pool,
+}
+
+impl fmt::Debug for Renderer {
+    /// A summary, not the million primitives.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let accel = match &self.accel {
+            Accel::Spheres(AccelOf::Grid(_)) => "grid of spheres",
+            Accel::Spheres(AccelOf::Exhaustive(_)) => "exhaustive over spheres",
+            Accel::Shapes(AccelOf::Grid(_)) => "grid of shapes",
+            Accel::Shapes(AccelOf::Exhaustive(_)) => "exhaustive over shapes",
+        };
+        f.debug_struct("Renderer")
+            .field("accel", &accel)
+            .field("primitives", &self.prim_count)
+            .field("size", &(self.width, self.height))
+            .field("spp", &self.spp)
+            .field("plan", &self.plan)
+            .field("build_time", &self.build_time)
+            .finish_non_exhaustive()
+    }
 }
 
 /// The worker threads of a renderer.
@@ -447,7 +478,10 @@ impl Renderer {
 ///
 /// # Errors
 /// A [`SceneError`] when the scene is invalid.
-pub fn render(scene: &Scene, options: &RenderOptions) -> Result<(Framebuffer, RenderStats), SceneError> {
+pub fn render(
+    scene: &Scene,
+    options: &RenderOptions,
+) -> Result<(Framebuffer, RenderStats), SceneError> {
     let r = Renderer::new(scene, options)?;
     let never = AtomicBool::new(false);
     // The flag is never raised, so the render cannot be cancelled.
@@ -476,7 +510,13 @@ impl Integrator for HitOnly {
         }
     }
 
-    fn shade<A>(_: &Tracer<'_, A>, _: &Ray, hit: Option<&Shading>, _: u32, _: &mut ThreadState<A::Scratch>) -> Li
+    fn shade<A>(
+        _: &Tracer<'_, A>,
+        _: &Ray,
+        hit: Option<&Shading>,
+        _: u32,
+        _: &mut ThreadState<A::Scratch>,
+    ) -> Li
     where
         A: Accelerator,
         A::Prim: Surface,
@@ -529,7 +569,12 @@ impl Job<'_> {
     /// Picks the specialised render loop for the plan, once: each effect is a
     /// const parameter, so the loop of a scene without shadows contains no
     /// shadow code at all. A new effect adds one more `pick` step.
-    fn run_plan<A>(&self, accel: &A, data: &SceneData, plan: &EffectPlan) -> Result<Output, Cancelled>
+    fn run_plan<A>(
+        &self,
+        accel: &A,
+        data: &SceneData,
+        plan: &EffectPlan,
+    ) -> Result<Output, Cancelled>
     where
         A: Accelerator,
         A::Prim: Surface,
@@ -553,13 +598,22 @@ impl Job<'_> {
     {
         // Refraction always comes with (Fresnel) reflection.
         match (plan.reflection, plan.refraction) {
-            (false, false) => self.pick_jitter::<A, Whitted<SHADOWS, false, false>>(accel, data, plan),
-            (true, false) => self.pick_jitter::<A, Whitted<SHADOWS, true, false>>(accel, data, plan),
+            (false, false) => {
+                self.pick_jitter::<A, Whitted<SHADOWS, false, false>>(accel, data, plan)
+            }
+            (true, false) => {
+                self.pick_jitter::<A, Whitted<SHADOWS, true, false>>(accel, data, plan)
+            }
             (_, true) => self.pick_jitter::<A, Whitted<SHADOWS, true, true>>(accel, data, plan),
         }
     }
 
-    fn pick_jitter<A, I>(&self, accel: &A, data: &SceneData, plan: &EffectPlan) -> Result<Output, Cancelled>
+    fn pick_jitter<A, I>(
+        &self,
+        accel: &A,
+        data: &SceneData,
+        plan: &EffectPlan,
+    ) -> Result<Output, Cancelled>
     where
         A: Accelerator,
         A::Prim: Surface,
@@ -589,7 +643,11 @@ impl Job<'_> {
 
     /// Renders every tile (in parallel when the pool has threads) and
     /// assembles the image. Per-tile ray counts are summed in tile order.
-    fn run<A, I, const JITTER: bool>(&self, accel: &A, data: &SceneData) -> Result<Output, Cancelled>
+    fn run<A, I, const JITTER: bool>(
+        &self,
+        accel: &A,
+        data: &SceneData,
+    ) -> Result<Output, Cancelled>
     where
         A: Accelerator,
         A::Prim: Surface,

@@ -138,7 +138,10 @@ pub fn sphere_set(n: usize, seed: u64) -> SphereSet {
         let x = 1.0f32 - 2.0f32 * rng.next_f32();
         let y = 1.0f32 - 2.0f32 * rng.next_f32();
         let z = 1.0f32 - 2.0f32 * rng.next_f32();
-        set.spheres.push(Sphere::new(Vec3::new(x as Real, y as Real, z as Real), radius));
+        set.spheres.push(Sphere::new(
+            Vec3::new(x as Real, y as Real, z as Real),
+            radius,
+        ));
         set.colors.push(Rgb::new(r, g, b));
     }
     set
@@ -266,12 +269,17 @@ mod tests {
     fn centres_are_in_the_cube() {
         let s = spheres(1000, DEFAULT_SEED);
         assert!(s.iter().all(|s| s.center.abs().max_element() <= 1.0));
-        assert!(s.iter().all(|s| s.color.min_element() >= 0.0 && s.color.max_element() < 1.0));
+        assert!(s
+            .iter()
+            .all(|s| s.color.min_element() >= 0.0 && s.color.max_element() < 1.0));
         // Reproducible.
         assert_eq!(s, spheres(1000, DEFAULT_SEED));
         let set = sphere_set(1000, DEFAULT_SEED);
         for (a, b) in s.iter().zip(set.spheres.iter().zip(&set.colors)) {
-            assert_eq!((a.center, a.radius, a.color), (b.0.center, b.0.radius, *b.1));
+            assert_eq!(
+                (a.center, a.radius, a.color),
+                (b.0.center, b.0.radius, *b.1)
+            );
         }
     }
 }

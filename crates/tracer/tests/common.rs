@@ -32,7 +32,10 @@ pub fn assert_finite(img: &Framebuffer) {
 pub fn render_with(scene: &Scene, options: &RenderOptions) -> (Framebuffer, RenderStats) {
     let (img, stats) = gridrt_tracer::render(scene, options).expect("valid scene");
     assert_finite(&img);
-    assert_eq!(stats.rays.camera, u64::from(img.width * img.height * scene.settings.spp));
+    assert_eq!(
+        stats.rays.camera,
+        u64::from(img.width * img.height * scene.settings.spp)
+    );
     (img, stats)
 }
 
@@ -121,8 +124,10 @@ pub fn uv_sphere(center: Vec3, r: Real, slices: u32, stacks: u32) -> gridrt_trac
     let idx = |k: u32, j: u32| k * slices + j % slices;
     for k in 0..stacks {
         for j in 0..slices {
-            m.triangles.push([idx(k, j), idx(k + 1, j), idx(k + 1, j + 1)]);
-            m.triangles.push([idx(k, j), idx(k + 1, j + 1), idx(k, j + 1)]);
+            m.triangles
+                .push([idx(k, j), idx(k + 1, j), idx(k + 1, j + 1)]);
+            m.triangles
+                .push([idx(k, j), idx(k + 1, j + 1), idx(k, j + 1)]);
         }
     }
     m

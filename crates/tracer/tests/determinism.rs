@@ -1,7 +1,7 @@
 //! The same image whatever the accelerator and the thread count.
 
 use crate::common::*;
-use gridrt_tracer::{suffern, AccelKind, Renderer, RenderOptions};
+use gridrt_tracer::{suffern, AccelKind, RenderOptions, Renderer};
 
 #[test]
 fn grid_dense_grid_and_exhaustive_are_bit_identical() {

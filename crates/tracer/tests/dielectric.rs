@@ -48,7 +48,10 @@ fn normal_incidence_reflects_f0() {
     let (img, stats) = render(&s);
     let f0 = ((1.5f32 - 1.0) / (1.5 + 1.0)).powi(2);
     for p in &img.pixels {
-        assert!((*p - Rgb::new(1.0, 0.5, 0.25) * f0).abs().max_element() < 1e-6, "{p:?} vs F0 = {f0}");
+        assert!(
+            (*p - Rgb::new(1.0, 0.5, 0.25) * f0).abs().max_element() < 1e-6,
+            "{p:?} vs F0 = {f0}"
+        );
     }
     assert_eq!(stats.rays.reflection, 64);
     assert_eq!(stats.rays.refraction, 64);

@@ -4,7 +4,7 @@ use crate::common::*;
 use gridrt_grid::{Real, Vec3};
 use gridrt_tracer::{
     Geometry, Light, Material, Mesh, Projection, RenderOptions, Renderer, Rgb, Scene, SceneError,
-    SphereSet, Sphere,
+    Sphere, SphereSet,
 };
 
 fn valid() -> Scene {
@@ -49,17 +49,33 @@ fn settings_and_camera() {
     assert_eq!(err(&s), SceneError::CameraUpParallel);
     let mut s = valid();
     s.camera.eye.y = Real::INFINITY;
-    assert!(matches!(err(&s), SceneError::CameraNotFinite { what: "eye" }));
+    assert!(matches!(
+        err(&s),
+        SceneError::CameraNotFinite { what: "eye" }
+    ));
     for p in [
         Projection::Perspective { vfov_deg: 0.0 },
-        Projection::Perspective { vfov_deg: Real::NAN },
-        Projection::ViewPlane { distance: -1.0, pixel_size: 1.0 },
-        Projection::ViewPlane { distance: 1.0, pixel_size: 0.0 },
-        Projection::Orthographic { height: Real::INFINITY },
+        Projection::Perspective {
+            vfov_deg: Real::NAN,
+        },
+        Projection::ViewPlane {
+            distance: -1.0,
+            pixel_size: 1.0,
+        },
+        Projection::ViewPlane {
+            distance: 1.0,
+            pixel_size: 0.0,
+        },
+        Projection::Orthographic {
+            height: Real::INFINITY,
+        },
     ] {
         let mut s = valid();
         s.camera.projection = p;
-        assert!(matches!(err(&s), SceneError::CameraProjection { .. }), "{p:?}");
+        assert!(
+            matches!(err(&s), SceneError::CameraProjection { .. }),
+            "{p:?}"
+        );
     }
 }
 
@@ -68,21 +84,37 @@ fn objects() {
     let mut s = valid();
     s.objects[0].material = 7;
     let e = err(&s);
-    assert_eq!(e, SceneError::MaterialOutOfRange { object: 0, material: 7, count: 1 });
+    assert_eq!(
+        e,
+        SceneError::MaterialOutOfRange {
+            object: 0,
+            material: 7,
+            count: 1
+        }
+    );
     assert!(e.to_string().contains("object 0") && e.to_string().contains("7"));
     for radius in [0.0, -1.0, Real::NAN, Real::INFINITY] {
         let mut s = valid();
         s.objects[0].geometry = sphere(Vec3::ZERO, radius);
-        assert!(matches!(err(&s), SceneError::BadRadius { object: 0, .. }), "{radius}");
+        assert!(
+            matches!(err(&s), SceneError::BadRadius { object: 0, .. }),
+            "{radius}"
+        );
     }
     let mut s = valid();
     s.objects[0].geometry = sphere(Vec3::new(Real::NAN, 0.0, 0.0), 1.0);
     assert!(matches!(err(&s), SceneError::NotFinite { object: 0, .. }));
     let mut s = valid();
-    s.objects[0].geometry = Geometry::Cuboid { min: Vec3::ONE, max: Vec3::ZERO };
+    s.objects[0].geometry = Geometry::Cuboid {
+        min: Vec3::ONE,
+        max: Vec3::ZERO,
+    };
     assert_eq!(err(&s), SceneError::InvertedCuboid { object: 0 });
     let mut s = valid();
-    s.objects[0].geometry = Geometry::Plane { point: Vec3::ZERO, normal: Vec3::ZERO };
+    s.objects[0].geometry = Geometry::Plane {
+        point: Vec3::ZERO,
+        normal: Vec3::ZERO,
+    };
     assert_eq!(err(&s), SceneError::ZeroNormal { object: 0 });
 }
 
@@ -99,17 +131,38 @@ fn meshes() {
         s
     };
     let e = err(&tri(vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![[0, 1, 3]]));
-    assert!(matches!(e, SceneError::MeshIndexOutOfRange { triangle: 0, index: 3, vertices: 3, .. }));
+    assert!(matches!(
+        e,
+        SceneError::MeshIndexOutOfRange {
+            triangle: 0,
+            index: 3,
+            vertices: 3,
+            ..
+        }
+    ));
     assert!(e.to_string().contains("bad.obj"));
-    let e = err(&tri(vec![Vec3::ZERO, Vec3::new(Real::NAN, 0.0, 0.0), Vec3::Y], vec![[0, 1, 2]]));
+    let e = err(&tri(
+        vec![Vec3::ZERO, Vec3::new(Real::NAN, 0.0, 0.0), Vec3::Y],
+        vec![[0, 1, 2]],
+    ));
     assert!(matches!(e, SceneError::MeshNotFinite { vertex: 1, .. }));
     let mut s = tri(vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![[0, 1, 2]]);
     if let Geometry::Mesh(m) = &mut s.objects[0].geometry {
         m.normals = vec![Vec3::Z; 2];
     }
-    assert!(matches!(err(&s), SceneError::MeshAttributeCount { attribute: "normals", count: 2, .. }));
+    assert!(matches!(
+        err(&s),
+        SceneError::MeshAttributeCount {
+            attribute: "normals",
+            count: 2,
+            ..
+        }
+    ));
     // Degenerate triangles are fine: they are just never hit.
-    let s = tri(vec![Vec3::ZERO, Vec3::X, Vec3::new(2.0, 0.0, 0.0)], vec![[0, 1, 2], [0, 0, 0]]);
+    let s = tri(
+        vec![Vec3::ZERO, Vec3::X, Vec3::new(2.0, 0.0, 0.0)],
+        vec![[0, 1, 2], [0, 0, 0]],
+    );
     let r = Renderer::new(&s, &RenderOptions::default()).unwrap();
     assert_eq!(r.primitive_count(), 0);
 }
@@ -117,17 +170,39 @@ fn meshes() {
 #[test]
 fn materials_and_lights() {
     for m in [
-        Material::Matte { color: Rgb::new(-1.0, 0.0, 0.0), ka: 0.0, kd: 1.0 },
-        Material::Matte { color: Rgb::ONE, ka: f32::NAN, kd: 1.0 },
-        Material::Dielectric { ior: 0.0, tint: Rgb::ONE },
-        Material::Emissive { color: Rgb::ONE, strength: f32::INFINITY },
+        Material::Matte {
+            color: Rgb::new(-1.0, 0.0, 0.0),
+            ka: 0.0,
+            kd: 1.0,
+        },
+        Material::Matte {
+            color: Rgb::ONE,
+            ka: f32::NAN,
+            kd: 1.0,
+        },
+        Material::Dielectric {
+            ior: 0.0,
+            tint: Rgb::ONE,
+        },
+        Material::Emissive {
+            color: Rgb::ONE,
+            strength: f32::INFINITY,
+        },
     ] {
         let mut s = valid();
         s.materials[0] = m.clone();
-        assert!(matches!(err(&s), SceneError::BadMaterial { material: 0, .. }), "{m:?}");
+        assert!(
+            matches!(err(&s), SceneError::BadMaterial { material: 0, .. }),
+            "{m:?}"
+        );
     }
     for l in [
-        Light::Directional { direction: Vec3::ZERO, color: Rgb::ONE, intensity: 1.0, shadows: true },
+        Light::Directional {
+            direction: Vec3::ZERO,
+            color: Rgb::ONE,
+            intensity: 1.0,
+            shadows: true,
+        },
         Light::Point {
             position: Vec3::new(0.0, Real::NAN, 0.0),
             color: Rgb::ONE,
@@ -135,25 +210,50 @@ fn materials_and_lights() {
             inverse_square: false,
             shadows: true,
         },
-        Light::Ambient { color: Rgb::ONE, intensity: -2.0 },
+        Light::Ambient {
+            color: Rgb::ONE,
+            intensity: -2.0,
+        },
     ] {
         let mut s = valid();
         s.lights.push(l.clone());
-        assert!(matches!(err(&s), SceneError::BadLight { light: 1, .. }), "{l:?}");
+        assert!(
+            matches!(err(&s), SceneError::BadLight { light: 1, .. }),
+            "{l:?}"
+        );
     }
 }
 
 #[test]
 fn sphere_sets() {
     let s = valid();
-    let set = |spheres: Vec<Sphere>, colors: Vec<Rgb>, material| SphereSet { spheres, colors, material };
+    let set = |spheres: Vec<Sphere>, colors: Vec<Rgb>, material| SphereSet {
+        spheres,
+        colors,
+        material,
+    };
     let o = RenderOptions::default();
-    let e = Renderer::with_spheres(&s, set(vec![Sphere::new(Vec3::ZERO, 1.0)], vec![], 3), &o).unwrap_err();
-    assert!(matches!(e, SceneError::MaterialOutOfRange { object: 1, .. }));
-    let e = Renderer::with_spheres(&s, set(vec![Sphere::new(Vec3::ZERO, 1.0)], vec![Rgb::ONE; 2], 0), &o)
+    let e = Renderer::with_spheres(&s, set(vec![Sphere::new(Vec3::ZERO, 1.0)], vec![], 3), &o)
         .unwrap_err();
-    assert!(matches!(e, SceneError::SphereSetColors { colors: 2, spheres: 1 }));
-    let e = Renderer::with_spheres(&s, set(vec![Sphere::new(Vec3::ZERO, 0.0)], vec![], 0), &o).unwrap_err();
+    assert!(matches!(
+        e,
+        SceneError::MaterialOutOfRange { object: 1, .. }
+    ));
+    let e = Renderer::with_spheres(
+        &s,
+        set(vec![Sphere::new(Vec3::ZERO, 1.0)], vec![Rgb::ONE; 2], 0),
+        &o,
+    )
+    .unwrap_err();
+    assert!(matches!(
+        e,
+        SceneError::SphereSetColors {
+            colors: 2,
+            spheres: 1
+        }
+    ));
+    let e = Renderer::with_spheres(&s, set(vec![Sphere::new(Vec3::ZERO, 0.0)], vec![], 0), &o)
+        .unwrap_err();
     assert!(matches!(e, SceneError::BadRadius { object: 1, .. }));
 }
 

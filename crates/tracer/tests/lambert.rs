@@ -54,7 +54,10 @@ fn directional_light_orthographic_camera() {
                 let n = [ox, oy, (1.0 - d2).sqrt()];
                 let cos = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
                 let want = expected(0.25, 1.0, 0.75, 3.0, cos);
-                assert!(close(got, want, 2e-5), "({x}, {y}): got {got:?}, want {want:?}");
+                assert!(
+                    close(got, want, 2e-5),
+                    "({x}, {y}): got {got:?}, want {want:?}"
+                );
                 checked += 1;
             }
         }
@@ -120,7 +123,10 @@ fn point_light_inverse_square_view_plane_camera_with_shadow_rays() {
             let dist2 = to[0] * to[0] + to[1] * to[1] + to[2] * to[2];
             let cos = (p[0] * to[0] + p[1] * to[1] + p[2] * to[2]) / dist2.sqrt();
             let want = expected(0.0, 0.0, 0.75, 30.0 / dist2, cos);
-            assert!(close(got, want, 1e-4), "({x}, {y}): got {got:?}, want {want:?}");
+            assert!(
+                close(got, want, 1e-4),
+                "({x}, {y}): got {got:?}, want {want:?}"
+            );
             checked += 1;
         }
     }
@@ -137,5 +143,79 @@ fn suffern_convention_radiance_3_kd_075() {
     s.lights = vec![directional(Vec3::Z, 3.0, false)];
     let (img, _) = render(&s);
     let want = CD.map(|c| 0.75 * c / PI * 3.0);
-    assert!(close(img.get(0, 0), want, 1e-6), "{:?} vs {want:?}", img.get(0, 0));
+    assert!(
+        close(img.get(0, 0), want, 1e-6),
+        "{:?} vs {want:?}",
+        img.get(0, 0)
+    );
+}
+
+#[test]
+fn phong_highlight_in_the_mirror_direction() {
+    // Light and eye both straight above the top of a sphere: r = wo, so the
+    // highlight is ks·cs·L·cos θ with cos θ = 1, on top of kd·cd/π·L.
+    let mut s = empty_scene(1, 1, Vec3::new(0.0, 0.0, 5.0));
+    s.camera.projection = Projection::Orthographic { height: 1e-3 };
+    let m = material(
+        &mut s,
+        gridrt_tracer::Material::Phong {
+            color: Rgb::new(0.9, 0.5, 0.2),
+            ka: 0.0,
+            kd: 0.5,
+            ks: 0.3,
+            exp: 40.0,
+            specular: Rgb::new(1.0, 1.0, 0.5),
+        },
+    );
+    object(&mut s, sphere(Vec3::ZERO, 1.0), m);
+    s.lights = vec![directional(Vec3::Z, 2.0, false)];
+    let (img, _) = render(&s);
+    let spec = [1.0, 1.0, 0.5];
+    let want: Vec<f64> = (0..3)
+        .map(|i| (0.5 * CD[i] / PI + 0.3 * spec[i]) * 2.0)
+        .collect();
+    assert!(
+        close(img.get(0, 0), [want[0], want[1], want[2]], 1e-5),
+        "{:?} vs {want:?}",
+        img.get(0, 0)
+    );
+}
+
+#[test]
+fn smooth_mesh_shades_like_the_sphere_it_approximates() {
+    // A finely tessellated sphere with per-vertex normals against the exact
+    // sphere: same light, same camera. Interpolated normals must point the
+    // right way (barycentric u, v weight vertices 1 and 2).
+    let scene = |geometry: gridrt_tracer::Geometry| {
+        let mut s = empty_scene(32, 32, Vec3::new(0.0, 0.0, 5.0));
+        s.camera.projection = Projection::Orthographic { height: 2.4 };
+        let m = material(&mut s, matte(Rgb::ONE, 0.0, 1.0));
+        object(&mut s, geometry, m);
+        s.lights = vec![directional(Vec3::new(1.0, 1.0, 2.0), 3.0, false)];
+        s
+    };
+    let (exact, _) = render(&scene(sphere(Vec3::ZERO, 1.0)));
+    let mesh = uv_sphere(Vec3::ZERO, 1.0, 96, 48);
+    let (smooth, _) = render(&scene(gridrt_tracer::Geometry::Mesh(mesh.clone())));
+    let mut flat_mesh = mesh;
+    flat_mesh.normals.clear();
+    let (flat, _) = render(&scene(gridrt_tracer::Geometry::Mesh(flat_mesh)));
+    let (mut worst_smooth, mut worst_flat) = (0.0f32, 0.0f32);
+    for y in 0..32 {
+        for x in 0..32 {
+            let (a, b, c) = (exact.get(x, y), smooth.get(x, y), flat.get(x, y));
+            // Skip the silhouette, where mesh and sphere differ in coverage.
+            if a == Rgb::ZERO || b == Rgb::ZERO || a.x < 0.05 {
+                continue;
+            }
+            worst_smooth = worst_smooth.max((a - b).abs().max_element());
+            worst_flat = worst_flat.max((a - c).abs().max_element());
+        }
+    }
+    assert!(worst_smooth < 0.01, "smooth normals off by {worst_smooth}");
+    // Flat facets are visibly worse: the smooth normals are in use.
+    assert!(
+        worst_flat > 2.0 * worst_smooth,
+        "flat {worst_flat} vs smooth {worst_smooth}"
+    );
 }

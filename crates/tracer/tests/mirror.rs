@@ -59,7 +59,10 @@ fn mirror_sphere_reflects_the_background_and_its_neighbour() {
     let (img, stats) = render(&s);
     // A lone mirror ball in a uniform sky is the sky colour everywhere.
     for p in &img.pixels {
-        assert!((*p - Rgb::new(0.2, 0.4, 0.6)).abs().max_element() < 1e-6, "{p:?}");
+        assert!(
+            (*p - Rgb::new(0.2, 0.4, 0.6)).abs().max_element() < 1e-6,
+            "{p:?}"
+        );
     }
     assert_eq!(stats.rays.reflection, stats.pixels_hit);
     assert!(stats.pixels_hit > 50);

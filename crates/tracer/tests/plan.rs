@@ -9,7 +9,10 @@ fn two_spheres(shadows: bool) -> gridrt_tracer::Scene {
     let m = material(&mut s, matte(Rgb::splat(0.7), 0.2, 0.8));
     object(&mut s, sphere(Vec3::new(-0.6, 0.0, 0.0), 0.5), m);
     object(&mut s, sphere(Vec3::new(0.6, 0.0, 0.0), 0.5), m);
-    s.lights = vec![ambient(1.0), directional(Vec3::new(1.0, 1.0, 0.5), 2.0, shadows)];
+    s.lights = vec![
+        ambient(1.0),
+        directional(Vec3::new(1.0, 1.0, 0.5), 2.0, shadows),
+    ];
     s
 }
 
@@ -28,6 +31,21 @@ fn shadows_off_cast_zero_shadow_rays() {
 }
 
 #[test]
+fn only_lights_with_shadows_cast_shadow_rays() {
+    let mut s = two_spheres(true);
+    // A second light without shadows: still one shadow ray per lit hit.
+    s.lights
+        .push(directional(Vec3::new(-1.0, 0.5, 1.0), 1.0, false));
+    let (_, stats) = render(&s);
+    assert_eq!((stats.plan.direct_lights, stats.plan.shadow_lights), (2, 1));
+    assert!(stats.rays.shadow > 0 && stats.rays.shadow <= stats.pixels_hit);
+    let mut only_unshadowed = s.clone();
+    only_unshadowed.lights.remove(1);
+    let (_, stats) = render(&only_unshadowed);
+    assert_eq!(stats.rays.shadow, 0);
+}
+
+#[test]
 fn no_reflective_material_casts_zero_secondary_rays() {
     let mut s = two_spheres(true);
     // A mirror and a glass material that no object uses change nothing.
@@ -43,7 +61,13 @@ fn no_reflective_material_casts_zero_secondary_rays() {
             reflect: Rgb::ONE,
         },
     );
-    material(&mut s, Material::Dielectric { ior: 1.5, tint: Rgb::ONE });
+    material(
+        &mut s,
+        Material::Dielectric {
+            ior: 1.5,
+            tint: Rgb::ONE,
+        },
+    );
     let (_, stats) = render(&s);
     assert_eq!(stats.plan.integrator, IntegratorKind::RayCast);
     assert!(!stats.plan.reflection && !stats.plan.refraction);
@@ -109,14 +133,25 @@ fn jitter_only_above_one_sample() {
 fn plan_and_stats_display_every_effect() {
     let (_, stats) = render(&kitchen_sink(16, 12));
     let p = stats.plan.to_string();
-    for word in ["Whitted", "2 per pixel", "shadows     on (2 of 2", "reflection  on", "refraction  on"] {
+    for word in [
+        "Whitted",
+        "2 per pixel",
+        "shadows     on (2 of 2",
+        "reflection  on",
+        "refraction  on",
+    ] {
         assert!(p.contains(word), "{word:?} missing from:\n{p}");
     }
     let text = stats.to_string();
+    println!("{text}");
     assert!(text.contains("camera") && text.contains("shadow") && text.contains("refraction"));
     assert!(text.contains("grid"));
     let plain = EffectPlan::for_scene(&two_spheres(false)).to_string();
-    assert!(plain.contains("ray casting") && plain.contains("no jitter") && plain.contains("shadows     off"));
+    assert!(
+        plain.contains("ray casting")
+            && plain.contains("no jitter")
+            && plain.contains("shadows     off")
+    );
 }
 
 #[cfg(feature = "serde")]

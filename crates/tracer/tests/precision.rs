@@ -46,7 +46,9 @@ fn huge_sphere_is_hit_where_it_should_be() {
         let s = Sphere::new(Vec3::new(0.0, -big, 0.0), big);
         let o = Vec3::new(0.3, 2.0, -0.7);
         let d = Vec3::new(0.3, -1.0, 0.2);
-        let h = s.closest_hit(&Ray::new(o, d), 0.0, Real::INFINITY).expect("hits the ground");
+        let h = s
+            .closest_hit(&Ray::new(o, d), 0.0, Real::INFINITY)
+            .expect("hits the ground");
         // The top of the sphere is flat to first order: y ≈ 0 at t ≈ 2.
         let p = o + d * h.t;
         assert!(p.y.abs() < 2e-2, "big {big}: {p:?}");

@@ -1,6 +1,6 @@
 //! Rays through shared edges and vertices of a mesh never fall through.
 
-use gridrt_grid::{Accelerator, Exhaustive, Grid, GridConfig, Real, Ray, Vec3};
+use gridrt_grid::{Accelerator, Exhaustive, Grid, GridConfig, Ray, Real, Vec3};
 use gridrt_tracer::Triangle;
 
 /// A bumpy height field: an `n × n` grid of quads in [0, 1]², each split in
@@ -54,7 +54,11 @@ fn fan(k: u32) -> (Vec<Vec3>, Vec<Triangle>) {
         .map(|i| {
             let a = std::f64::consts::TAU * f64::from(i) / f64::from(k);
             let q = |x: f64| ((x * 64.0).round() / 64.0) as Real;
-            Vec3::new(q(0.5 + 0.4 * a.cos()), q(0.5 + 0.4 * a.sin()), q(0.25 + 0.1 * (3.0 * a).sin()))
+            Vec3::new(
+                q(0.5 + 0.4 * a.cos()),
+                q(0.5 + 0.4 * a.sin()),
+                q(0.25 + 0.1 * (3.0 * a).sin()),
+            )
         })
         .collect();
     let tris = (0..k as usize)
@@ -95,7 +99,11 @@ fn check<A: Accelerator>(name: &str, accel: &A, targets: &[Vec3]) {
             let ray = Ray::new(t + d, -d);
             assert_eq!(ray.origin - d, t);
             let hit = accel.closest_hit(&ray, 0.0, Real::INFINITY, &mut scratch);
-            assert!(hit.is_some(), "{name}: fell through at {t:?} along {:?}", -d);
+            assert!(
+                hit.is_some(),
+                "{name}: fell through at {t:?} along {:?}",
+                -d
+            );
             // The hit at the target is at t = 1 up to rounding; anything nearer
             // is another part of the surface in front of it.
             assert!(

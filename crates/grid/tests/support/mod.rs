@@ -6,7 +6,9 @@
 pub mod prims;
 pub mod scenes;
 
-use gridrt_grid::{Accelerator, CellStorage, Exhaustive, Grid, GridConfig, Hit, Primitive, Ray, Real};
+use gridrt_grid::{
+    Accelerator, CellStorage, Exhaustive, Grid, GridConfig, Hit, Primitive, Ray, Real,
+};
 
 /// Every combination of storage, mailbox and insertion mode.
 pub fn all_configs() -> Vec<GridConfig> {
@@ -14,7 +16,12 @@ pub fn all_configs() -> Vec<GridConfig> {
     for storage in [CellStorage::Hashed, CellStorage::Dense] {
         for mailbox in [false, true] {
             for exact_insertion in [false, true] {
-                v.push(GridConfig { storage, mailbox, exact_insertion, ..GridConfig::default() });
+                v.push(GridConfig {
+                    storage,
+                    mailbox,
+                    exact_insertion,
+                    ..GridConfig::default()
+                });
             }
         }
     }
@@ -42,7 +49,10 @@ impl<P: Primitive + Clone + std::fmt::Debug> Checker<P> {
                 g
             })
             .collect();
-        Self { exhaustive: Exhaustive::new(prims), grids }
+        Self {
+            exhaustive: Exhaustive::new(prims),
+            grids,
+        }
     }
 
     /// One grid per config of [`all_configs`].
@@ -66,7 +76,12 @@ impl<P: Primitive + Clone + std::fmt::Debug> Checker<P> {
                     g.stats().dims
                 );
                 let got_any = g.any_hit(ray, t_min, t_max, &mut s);
-                assert_eq!(got_any, want_any, "any_hit differs for {:?}\n ray {ray:?} [{t_min}, {t_max}]", g.config());
+                assert_eq!(
+                    got_any,
+                    want_any,
+                    "any_hit differs for {:?}\n ray {ray:?} [{t_min}, {t_max}]",
+                    g.config()
+                );
             }
         }
         want
@@ -78,7 +93,10 @@ pub fn same(a: &Option<Hit>, b: &Option<Hit>) -> bool {
     match (a, b) {
         (None, None) => true,
         (Some(a), Some(b)) => {
-            a.prim == b.prim && a.t.to_bits() == b.t.to_bits() && a.u.to_bits() == b.u.to_bits() && a.v.to_bits() == b.v.to_bits()
+            a.prim == b.prim
+                && a.t.to_bits() == b.t.to_bits()
+                && a.u.to_bits() == b.u.to_bits()
+                && a.v.to_bits() == b.v.to_bits()
         }
         _ => false,
     }

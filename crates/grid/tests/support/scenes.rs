@@ -3,6 +3,9 @@
 //! (`../shared/peers/embree/embree_bench.c`), and their tessellation.
 
 #![allow(dead_code)]
+// `3.14159` and the f32 round trips reproduce the peer's C code exactly
+// (the casts are not no-ops with the `f64` feature).
+#![allow(clippy::approx_constant, clippy::unnecessary_cast)]
 
 use super::prims::{Sphere, Triangle};
 use gridrt_grid::{Ray, Real, Vec3};
@@ -18,12 +21,18 @@ impl Lcg {
     }
     /// A float in `[0, 1)` with 24 random bits.
     pub fn next_f32(&mut self) -> f32 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         (self.0 >> 40) as f32 * (1.0 / 16_777_216.0)
     }
     /// A `u64` with 32 random bits.
     pub fn next_u32(&mut self) -> u32 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         (self.0 >> 32) as u32
     }
     /// A float in `[lo, hi)`.
@@ -97,7 +106,12 @@ pub fn checksum(hits: &[Option<u32>]) -> (usize, u64) {
 pub fn uv_sphere_mesh(spheres: &[Sphere], slices: usize, stacks: usize) -> Vec<Triangle> {
     let mut tris = Vec::with_capacity(spheres.len() * (2 * slices + (stacks - 2) * slices * 2));
     for s in spheres {
-        let (cx, cy, cz, rad) = (s.center.x as f32, s.center.y as f32, s.center.z as f32, s.radius as f32);
+        let (cx, cy, cz, rad) = (
+            s.center.x as f32,
+            s.center.y as f32,
+            s.center.z as f32,
+            s.radius as f32,
+        );
         let mut verts: Vec<Vec3> = Vec::with_capacity((stacks - 1) * slices + 2);
         let v3 = |x: f32, y: f32, z: f32| Vec3::new(x as Real, y as Real, z as Real);
         verts.push(v3(cx, cy + rad, cz));
@@ -115,7 +129,8 @@ pub fn uv_sphere_mesh(spheres: &[Sphere], slices: usize, stacks: usize) -> Vec<T
         let south = verts.len();
         verts.push(v3(cx, cy - rad, cz));
         let ring = |k: usize, j: usize| 1 + (k - 1) * slices + j % slices;
-        let mut tri = |a: usize, b: usize, c: usize| tris.push(Triangle::new(verts[a], verts[b], verts[c]));
+        let mut tri =
+            |a: usize, b: usize, c: usize| tris.push(Triangle::new(verts[a], verts[b], verts[c]));
         for j in 0..slices {
             tri(0, ring(1, j), ring(1, j + 1));
             tri(south, ring(stacks - 1, j + 1), ring(stacks - 1, j));

@@ -134,6 +134,22 @@ fn parse_error(path: &Path, e: gltf::Error) -> Error {
 fn validate(path: &Path, doc: &Document) -> Result<()> {
     use gltf::json::validation::{Error as VErr, Validate};
     let root = doc.as_json();
+    // gltf-json's own validation indexes `accessors` with a primitive's
+    // POSITION attribute unchecked (it panics on a bad index), so those
+    // references are checked first.
+    let n_acc = root.accessors.len();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            let refs = prim.attributes.values().chain(prim.indices.as_ref());
+            if let Some(bad) = refs.map(|i| i.value()).find(|&i| i >= n_acc) {
+                return Err(Error::gltf(
+                    path,
+                    format!("mesh {m}, primitive {p}"),
+                    format!("refers to accessor {bad}, but the file has {n_acc} accessors"),
+                ));
+            }
+        }
+    }
     let mut errors: Vec<String> = Vec::new();
     root.validate(root, gltf::json::Path::new, &mut |p, e| {
         let p = p();

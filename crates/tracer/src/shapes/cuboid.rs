@@ -115,7 +115,11 @@ impl Surface for Cuboid {
         let axis = face / 2;
         let positive = face % 2 == 1;
         let mut p = ray.at(t).clamp(self.min, self.max);
-        p[axis] = if positive { self.max[axis] } else { self.min[axis] };
+        p[axis] = if positive {
+            self.max[axis]
+        } else {
+            self.min[axis]
+        };
         let mut n = Vec3::ZERO;
         n[axis] = if positive { 1.0 } else { -1.0 };
         SurfacePoint {
@@ -149,7 +153,10 @@ mod tests {
         assert_eq!(c.intersect(&r, 0.0, 10.0).map(|h| h.0), Some(1.0));
         let above = Ray::new(Vec3::new(-1.0, 1.0 + 1e-6, 0.5), Vec3::X);
         assert_eq!(c.intersect(&above, 0.0, 10.0), None);
-        assert_eq!(c.intersect(&Ray::new(Vec3::splat(0.5), Vec3::ZERO), 0.0, 1.0), None);
+        assert_eq!(
+            c.intersect(&Ray::new(Vec3::splat(0.5), Vec3::ZERO), 0.0, 1.0),
+            None
+        );
     }
 
     #[test]

@@ -60,17 +60,33 @@ mod tests {
     #[test]
     fn inside_touching_and_apart() {
         let b = unit();
-        let inside = [Vec3::splat(0.2), Vec3::new(0.8, 0.2, 0.2), Vec3::new(0.2, 0.8, 0.5)];
+        let inside = [
+            Vec3::splat(0.2),
+            Vec3::new(0.8, 0.2, 0.2),
+            Vec3::new(0.2, 0.8, 0.5),
+        ];
         assert!(triangle_box(inside[0], inside[1], inside[2], &b));
         // Lying in the face z = 1: touching counts.
-        let face = [Vec3::new(0.2, 0.2, 1.0), Vec3::new(2.0, 0.2, 1.0), Vec3::new(0.2, 2.0, 1.0)];
+        let face = [
+            Vec3::new(0.2, 0.2, 1.0),
+            Vec3::new(2.0, 0.2, 1.0),
+            Vec3::new(0.2, 2.0, 1.0),
+        ];
         assert!(triangle_box(face[0], face[1], face[2], &b));
         // A big triangle cutting through the box with every vertex outside.
-        let cut = [Vec3::new(-5.0, -5.0, 0.5), Vec3::new(5.0, -5.0, 0.5), Vec3::new(0.0, 5.0, 0.5)];
+        let cut = [
+            Vec3::new(-5.0, -5.0, 0.5),
+            Vec3::new(5.0, -5.0, 0.5),
+            Vec3::new(0.0, 5.0, 0.5),
+        ];
         assert!(triangle_box(cut[0], cut[1], cut[2], &b));
         // A triangle whose bounds overlap the box but which passes by a
         // corner: separated by its own plane x + y + z = 3.5.
-        let corner = [Vec3::new(1.5, 1.0, 1.0), Vec3::new(1.0, 1.5, 1.0), Vec3::new(1.0, 1.0, 1.5)];
+        let corner = [
+            Vec3::new(1.5, 1.0, 1.0),
+            Vec3::new(1.0, 1.5, 1.0),
+            Vec3::new(1.0, 1.0, 1.5),
+        ];
         let tb = Aabb::from_points(corner);
         assert!(tb.overlaps(&b));
         assert!(!triangle_box(corner[0], corner[1], corner[2], &b));
@@ -108,7 +124,11 @@ mod tests {
     #[test]
     fn touching_a_corner_counts() {
         let b = unit();
-        let t = [Vec3::ONE, Vec3::new(2.0, 1.0, 1.0), Vec3::new(1.0, 2.0, 3.0)];
+        let t = [
+            Vec3::ONE,
+            Vec3::new(2.0, 1.0, 1.0),
+            Vec3::new(1.0, 2.0, 3.0),
+        ];
         assert!(triangle_box(t[0], t[1], t[2], &b));
         assert!(!triangle_box(t[0], t[1], t[2], &Aabb::EMPTY));
     }

@@ -64,8 +64,14 @@ mod tests {
         assert_eq!(pl.intersect(&down, 0.0, 10.0), Some(1.0));
         let up = Ray::new(Vec3::new(0.0, -3.0, 0.0), Vec3::Y);
         assert_eq!(pl.intersect(&up, 0.0, 10.0), Some(2.0));
-        assert_eq!(pl.intersect(&Ray::new(Vec3::ZERO, Vec3::X), 0.0, 10.0), None);
-        assert_eq!(pl.intersect(&Ray::new(Vec3::new(0.0, -1.0, 0.0), Vec3::X), 0.0, 10.0), None);
+        assert_eq!(
+            pl.intersect(&Ray::new(Vec3::ZERO, Vec3::X), 0.0, 10.0),
+            None
+        );
+        assert_eq!(
+            pl.intersect(&Ray::new(Vec3::new(0.0, -1.0, 0.0), Vec3::X), 0.0, 10.0),
+            None
+        );
         assert_eq!(pl.intersect(&down, 0.0, 0.5), None);
     }
 }

@@ -66,7 +66,11 @@ impl Sphere {
             return None;
         }
         let c = f.dot(f) - r * r;
-        let q = if b < 0.0 { -b + disc.sqrt() } else { -b - disc.sqrt() };
+        let q = if b < 0.0 {
+            -b + disc.sqrt()
+        } else {
+            -b - disc.sqrt()
+        };
         if q == 0.0 {
             // b = 0 and a tangent ray: a double root at t = 0 (the origin is on
             // the sphere); c / q would be 0/0.
@@ -189,7 +193,10 @@ mod tests {
     #[test]
     fn surface_point_is_on_the_sphere() {
         let s = Sphere::new(Vec3::new(3.0, -2.0, 7.0), 0.5);
-        let ray = Ray::new(Vec3::new(100.0, 40.0, -30.0), s.center - Vec3::new(100.0, 40.0, -30.0));
+        let ray = Ray::new(
+            Vec3::new(100.0, 40.0, -30.0),
+            s.center - Vec3::new(100.0, 40.0, -30.0),
+        );
         let t = s.intersect(&ray, 0.0, Real::INFINITY).unwrap();
         let sp = s.surface(&ray, t, 0.0, 0.0);
         let dist = (sp.p - s.center).length();

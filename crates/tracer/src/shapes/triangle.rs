@@ -113,7 +113,9 @@ impl Triangle {
         if e0 == 0.0 || e1 == 0.0 || e2 == 0.0 {
             // On an edge in f32: redo the differences of exact f64 products so
             // that the sign, which decides the hit, is exact.
-            let (ax, ay, bx, by, cx, cy) = (ax as f64, ay as f64, bx as f64, by as f64, cx as f64, cy as f64);
+            let (ax, ay, bx, by, cx, cy) = (
+                ax as f64, ay as f64, bx as f64, by as f64, cx as f64, cy as f64,
+            );
             e0 = (cx * by - cy * bx) as f32;
             e1 = (ax * cy - ay * cx) as f32;
             e2 = (bx * ay - by * ax) as f32;
@@ -212,25 +214,41 @@ mod tests {
 
     #[test]
     fn barycentrics_are_weights_of_p1_and_p2() {
-        let tri = Triangle::new(Vec3::new(0.0, 0.0, -2.0), Vec3::new(4.0, 0.0, -2.0), Vec3::new(0.0, 4.0, -2.0));
-        let h = tri.intersect(&ray([1.0, 2.0, 0.0], [0.0, 0.0, -1.0]), 0.0, Real::INFINITY).unwrap();
+        let tri = Triangle::new(
+            Vec3::new(0.0, 0.0, -2.0),
+            Vec3::new(4.0, 0.0, -2.0),
+            Vec3::new(0.0, 4.0, -2.0),
+        );
+        let h = tri
+            .intersect(&ray([1.0, 2.0, 0.0], [0.0, 0.0, -1.0]), 0.0, Real::INFINITY)
+            .unwrap();
         assert_eq!((h.t, h.u, h.v), (2.0, 0.25, 0.5));
         // Either winding, either side.
         let back = Triangle::new(tri.p0, tri.p2, tri.p1);
-        let h = back.intersect(&ray([1.0, 2.0, -5.0], [0.0, 0.0, 1.0]), 0.0, Real::INFINITY).unwrap();
+        let h = back
+            .intersect(&ray([1.0, 2.0, -5.0], [0.0, 0.0, 1.0]), 0.0, Real::INFINITY)
+            .unwrap();
         assert_eq!((h.t, h.u, h.v), (3.0, 0.5, 0.25));
     }
 
     #[test]
     fn range_is_closed_and_misses_are_misses() {
-        let tri = Triangle::new(Vec3::new(-1.0, -1.0, -1.0), Vec3::new(1.0, -1.0, -1.0), Vec3::new(0.0, 1.0, -1.0));
+        let tri = Triangle::new(
+            Vec3::new(-1.0, -1.0, -1.0),
+            Vec3::new(1.0, -1.0, -1.0),
+            Vec3::new(0.0, 1.0, -1.0),
+        );
         let r = ray([0.0, 0.0, 0.0], [0.0, 0.0, -1.0]);
         assert!(tri.intersect(&r, 0.0, 1.0).is_some());
         assert!(tri.intersect(&r, 1.0, 1.0).is_some());
         assert!(tri.intersect(&r, 0.0, 0.999).is_none());
-        assert!(tri.intersect(&ray([5.0, 0.0, 0.0], [0.0, 0.0, -1.0]), 0.0, 10.0).is_none());
+        assert!(tri
+            .intersect(&ray([5.0, 0.0, 0.0], [0.0, 0.0, -1.0]), 0.0, 10.0)
+            .is_none());
         // Behind the origin.
-        assert!(tri.intersect(&ray([0.0, 0.0, -3.0], [0.0, 0.0, -1.0]), 0.0, 10.0).is_none());
+        assert!(tri
+            .intersect(&ray([0.0, 0.0, -3.0], [0.0, 0.0, -1.0]), 0.0, 10.0)
+            .is_none());
     }
 
     #[test]
@@ -238,25 +256,51 @@ mod tests {
         let line = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::new(2.0, 0.0, 0.0));
         let point = Triangle::new(Vec3::ONE, Vec3::ONE, Vec3::ONE);
         assert!(line.is_degenerate() && point.is_degenerate());
-        for d in [[0.0, 0.0, -1.0], [0.0, -1.0, 0.0], [0.3, -1.0, 0.1], [1.0, 0.0, 0.0]] {
-            for o in [[0.5, 0.0, 1.0], [0.5, 1.0, 0.0], [0.0, 0.0, 0.0], [1.0, 2.0, 1.0]] {
+        for d in [
+            [0.0, 0.0, -1.0],
+            [0.0, -1.0, 0.0],
+            [0.3, -1.0, 0.1],
+            [1.0, 0.0, 0.0],
+        ] {
+            for o in [
+                [0.5, 0.0, 1.0],
+                [0.5, 1.0, 0.0],
+                [0.0, 0.0, 0.0],
+                [1.0, 2.0, 1.0],
+            ] {
                 let r = ray(o, d);
-                assert!(line.intersect(&r, -Real::INFINITY, Real::INFINITY).is_none());
-                assert!(point.intersect(&r, -Real::INFINITY, Real::INFINITY).is_none());
+                assert!(line
+                    .intersect(&r, -Real::INFINITY, Real::INFINITY)
+                    .is_none());
+                assert!(point
+                    .intersect(&r, -Real::INFINITY, Real::INFINITY)
+                    .is_none());
             }
         }
         let tri = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
-        assert!(tri.intersect(&ray([0.1, 0.1, 1.0], [0.0, 0.0, 0.0]), 0.0, 10.0).is_none());
+        assert!(tri
+            .intersect(&ray([0.1, 0.1, 1.0], [0.0, 0.0, 0.0]), 0.0, 10.0)
+            .is_none());
         // A ray in the triangle's plane sees it edge-on.
-        assert!(tri.intersect(&ray([-1.0, 0.1, 0.0], [1.0, 0.0, 0.0]), 0.0, 10.0).is_none());
+        assert!(tri
+            .intersect(&ray([-1.0, 0.1, 0.0], [1.0, 0.0, 0.0]), 0.0, 10.0)
+            .is_none());
     }
 
     #[test]
     fn shared_edge_is_hit_by_one_triangle_at_least() {
         // Two triangles sharing the diagonal of a square; rays straight
         // through points of the diagonal.
-        let a = Triangle::new(Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0));
-        let b = Triangle::new(Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
+        let a = Triangle::new(
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+        );
+        let b = Triangle::new(
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        );
         for i in 0..=1000 {
             let s = i as Real / 1000.0;
             let r = ray([s, s, 3.0], [0.0137, -0.021, -1.0]);
@@ -271,7 +315,11 @@ mod tests {
 
     #[test]
     fn self_hit_is_rejected_at_the_origin() {
-        let tri = Triangle::new(Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
+        let tri = Triangle::new(
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        );
         // A ray starting on the triangle and leaving it at a slant.
         let r = ray([0.1, 0.1, 0.0], [0.3, 0.2, 1.0]);
         assert!(tri.intersect(&r, 0.0, 10.0).is_none());
