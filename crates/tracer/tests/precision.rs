@@ -63,26 +63,40 @@ fn huge_sphere_is_hit_where_it_should_be() {
 /// pixel is lit. Shadow acne from a bad ray offset would darken some.
 #[test]
 fn no_shadow_acne_on_huge_sphere_or_plane() {
+    assert_no_shadow_acne(Vec3::ZERO);
+}
+
+/// The same scene moved 10⁵ (and 10⁵·√2 in x and z) from the origin, where
+/// an `f32` coordinate's ulp is about 0.008: a fixed-epsilon offset would
+/// put shadow-ray origins below the floor, the error-bound offset does not.
+#[test]
+fn no_shadow_acne_far_from_the_origin() {
+    assert_no_shadow_acne(Vec3::new(1e5, 0.0, 0.0));
+    assert_no_shadow_acne(Vec3::new(1e5, 1e5, 1e5));
+}
+
+fn assert_no_shadow_acne(shift: Vec3) {
     for floor in [
         Geometry::Sphere {
-            center: Vec3::new(0.0, -1e4, 0.0),
+            center: Vec3::new(0.0, -1e4, 0.0) + shift,
             radius: 1e4,
         },
         Geometry::Plane {
-            point: Vec3::new(0.0, 0.0, 0.0),
+            point: shift,
             normal: Vec3::Y,
         },
     ] {
-        let mut s = empty_scene(48, 32, Vec3::new(0.0, 3.0, 8.0));
+        let mut s = empty_scene(48, 32, Vec3::new(0.0, 3.0, 8.0) + shift);
+        s.camera.look_at = shift;
         s.camera.projection = Projection::Perspective { vfov_deg: 50.0 };
         let m = material(&mut s, matte(Rgb::splat(0.8), 0.0, 1.0));
         object(&mut s, floor.clone(), m);
         // Something far behind the camera, so that the plan casts shadow rays.
-        object(&mut s, sphere(Vec3::new(0.0, 3.0, 40.0), 0.5), m);
+        object(&mut s, sphere(Vec3::new(0.0, 3.0, 40.0) + shift, 0.5), m);
         s.lights = vec![
             directional(Vec3::new(0.3, 1.0, 0.2), 1.0, true),
             Light::Point {
-                position: Vec3::new(-2.0, 4.0, 1.0),
+                position: Vec3::new(-2.0, 4.0, 1.0) + shift,
                 color: Rgb::ONE,
                 intensity: 1.0,
                 inverse_square: false,
@@ -101,7 +115,7 @@ fn no_shadow_acne_on_huge_sphere_or_plane() {
                 }
             }
         }
-        assert_eq!(dark, 0, "{floor:?}: {dark} shadowed floor pixels");
+        assert_eq!(dark, 0, "{floor:?}: {dark} shadowed floor pixels (shift {shift:?})");
         assert_eq!(stats.rays.shadow, 2 * stats.pixels_hit, "{floor:?}");
     }
 }
