@@ -92,57 +92,53 @@ pub fn trace_only(
     Ok((times, hits))
 }
 
-/// One exhaustive run over all rows or a band of rows.
+/// One exhaustive run over all rows or some of them.
 #[derive(Debug)]
 pub struct ExhaustiveRun {
     /// `Renderer::with_spheres` with `AccelKind::Exhaustive`.
     pub build: Duration,
     /// Rendering the rows.
     pub render: Duration,
-    /// The full-size image; rows outside the band are black.
+    /// The full-size image; rows not rendered stay black.
     pub image: Framebuffer,
 }
 
-/// Builds the exhaustive renderer and renders the whole image, or only its
-/// middle `band` rows (`band` even).
-///
-/// The band is rendered through the public API as an image `band` rows
-/// high with the same camera: Suffern's view plane puts pixel row `r` of an
-/// image `h` high at `y = r − h/2 + 0.5`, so row `r` of the band is row
-/// `r + (height − band)/2` of the full image, bit for bit (same rays, same
-/// shading; the benchmark has 1 sample per pixel). The band is copied into
-/// a black full-size image for comparison.
+/// Builds the exhaustive renderer and renders the whole image, or only the
+/// image rows listed in `rows` (`Renderer::render_rows`: each row bit for
+/// bit as in the whole frame), copied into a black full-size image for
+/// comparison.
 ///
 /// # Errors
-/// The renderer's error as text, or a band that is odd or too tall.
+/// The renderer's error as text, or a row outside the image.
 pub fn exhaustive_run(
     n: usize,
     threads: usize,
-    band: Option<u32>,
+    rows: Option<&[u32]>,
 ) -> Result<ExhaustiveRun, String> {
-    let mut base = suffern::base_scene();
+    let base = suffern::base_scene();
     let (width, height) = (base.settings.width, base.settings.height);
-    if let Some(b) = band {
-        if b % 2 != 0 || b == 0 || b > height || height % 2 != 0 {
-            return Err(format!(
-                "a band of {b} rows cannot be centred in {height} rows"
-            ));
-        }
-        base.settings.height = b;
+    if let Some(&y) = rows.and_then(|r| r.iter().find(|&&y| y >= height)) {
+        return Err(format!("row {y} is outside an image {height} rows high"));
     }
     let set = suffern::sphere_set(n, DEFAULT_SEED);
     let opts = options(AccelKind::Exhaustive, GridConfig::default(), threads);
     let (renderer, build) = timed(|| Renderer::with_spheres(&base, set, &opts));
     let renderer = renderer.map_err(|e| e.to_string())?;
     let never = AtomicBool::new(false);
-    let (out, render) = timed(|| renderer.render(&|_, _| {}, &never));
+    let (out, render) = timed(|| match rows {
+        None => renderer.render(&|_, _| {}, &never),
+        Some(r) => renderer.render_rows(r, &|_, _| {}, &never),
+    });
     let (part, _) = out.map_err(|e| e.to_string())?;
-    let image = match band {
+    let image = match rows {
         None => part,
-        Some(b) => {
+        Some(rows) => {
             let mut full = Framebuffer::new(width, height);
-            let start = ((height - b) / 2 * width) as usize;
-            full.pixels[start..start + part.pixels.len()].copy_from_slice(&part.pixels);
+            let w = width as usize;
+            for (i, &y) in rows.iter().enumerate() {
+                let y = y as usize;
+                full.pixels[y * w..(y + 1) * w].copy_from_slice(&part.pixels[i * w..(i + 1) * w]);
+            }
             full
         }
     };
@@ -247,29 +243,32 @@ mod tests {
             grid_run(10, GridConfig::default(), 1).unwrap().pixels_hit,
             16_972
         );
-        let e = exhaustive_run(100, 2, Some(6)).unwrap();
+        let rows = crate::table::spread_rows(6, 400);
+        let e = exhaustive_run(100, 2, Some(&rows)).unwrap();
         let g = grid_run(100, GridConfig::default(), 2).unwrap();
-        let rows = crate::table::band_rows(6, 400);
-        assert_eq!(rows, vec![197, 198, 199, 200, 201, 202]);
         assert_eq!(
             crate::bitdiff::bitwise_diff(&g.image, &e.image, Some(&rows)),
             Ok(None)
         );
-        // The band has spheres in it, and the rows outside it stay black.
+        // The rows have spheres in them, and the other rows stay black.
         assert!(rows
             .iter()
             .any(|&y| g.image.pixels[y as usize * 400..][..400]
                 .iter()
                 .any(|p| p.x > 0.0)));
-        assert!(e.image.pixels[..196 * 400]
-            .iter()
-            .all(|p| p.to_array() == [0.0; 3]));
+        let black = |y: usize| {
+            e.image.pixels[y * 400..][..400]
+                .iter()
+                .all(|p| p.to_array() == [0.0; 3])
+        };
+        assert!((0..400).filter(|&y| !rows.contains(&(y as u32))).all(black));
+        assert!(!rows.iter().all(|&y| black(y as usize)));
         let full = exhaustive_run(10, 1, None).unwrap();
         let g10 = grid_run(10, GridConfig::default(), 1).unwrap();
         assert_eq!(
             crate::bitdiff::bitwise_diff(&g10.image, &full.image, None),
             Ok(None)
         );
-        assert!(exhaustive_run(10, 1, Some(5)).is_err());
+        assert!(exhaustive_run(10, 1, Some(&[400])).is_err());
     }
 }

@@ -6,7 +6,7 @@
 //! generate + build + render repeated `--runs` times (median); a
 //! closest-hit-only pass for the "trace only" time; a counting pass for
 //! primitive tests per ray; the exhaustive renderer on every row (small N,
-//! or `--full`) or on the middle rows of the image, extrapolated ("est."). Every image
+//! or `--full`) or on evenly spread rows of the image, extrapolated ("est."). Every image
 //! must equal the first grid image bit for bit, and the pixels hit must
 //! equal the Embree peer's counts.
 
@@ -285,8 +285,7 @@ fn measure_row(
     } else {
         table::rows_for_budget(n, RESOLUTION, height, args.exhaustive_budget, MIN_ROWS)
     };
-    let band = (ex_rows < height as usize).then_some(ex_rows as u32);
-    let subset = band.map(|b| table::band_rows(b as usize, height));
+    let subset = (ex_rows < height as usize).then(|| table::spread_rows(ex_rows, height));
     let steps =
         (threads.len() * configs.len() * runs + runs + configs.len() + 1 + threads.len() * runs)
             as u64
@@ -392,7 +391,7 @@ fn measure_row(
         ));
         let (mut b, mut r) = (Vec::new(), Vec::new());
         for _ in 0..runs {
-            let e = measure::exhaustive_run(n, th, band)?;
+            let e = measure::exhaustive_run(n, th, subset.as_deref())?;
             b.push(e.build);
             r.push(e.render);
             check_image(

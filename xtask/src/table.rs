@@ -63,38 +63,31 @@ pub fn book(n: usize) -> Option<&'static BookRow> {
     BOOK.iter().find(|b| b.n == n)
 }
 
-/// The middle `k` rows of an image `height` rows high (y = 0 at the top),
-/// ascending; `k` is rounded up to even (so the band is centred exactly)
-/// and capped at `height`.
-pub fn band_rows(k: usize, height: u32) -> Vec<u32> {
+/// `k` rows spread evenly over an image `height` rows high (y = 0 at the
+/// top), ascending: the row in the middle of each of `k` equal strips, so
+/// sky and spheres are sampled in proportion. `k` is capped at `height`.
+pub fn spread_rows(k: usize, height: u32) -> Vec<u32> {
     let h = height as usize;
-    let k = (k.max(1).div_ceil(2) * 2).min(h);
-    let start = (h - k) / 2;
-    (start as u32..(start + k) as u32).collect()
+    let k = k.clamp(1, h.max(1));
+    (0..k).map(|i| ((2 * i + 1) * h / (2 * k)) as u32).collect()
 }
 
 /// How many rows an exhaustive measurement renders so that it makes at most
 /// `budget` ray–sphere tests (`width · rows · n`), but at least `min_rows`
 /// and at most `height` (every row: no estimate).
-/// The count is even (a band centred in an even height; see [`band_rows`]).
 pub fn rows_for_budget(n: usize, width: u32, height: u32, budget: f64, min_rows: usize) -> usize {
     let per_row = width as f64 * n.max(1) as f64;
     let rows = (budget / per_row).floor();
     // `as` saturates: an infinite budget gives usize::MAX, NaN gives 0.
     let rows = if rows > 0.0 { rows as usize } else { 0 };
-    let rows = rows.max(min_rows).min(height as usize);
-    if rows < height as usize {
-        rows / 2 * 2
-    } else {
-        rows
-    }
+    rows.max(min_rows).min(height as usize)
 }
 
 /// The whole frame's render time from the time of `rows` of `height` rows:
 /// per-row cost times the row count. The exhaustive accelerator tests every
 /// sphere for every ray, so each ray costs nearly the same; only shading
-/// differs between hit and missed pixels, and the middle band, where most
-/// spheres are, errs (slightly) on the slow side.
+/// differs between hit and missed pixels, and evenly spread rows
+/// ([`spread_rows`]) sample both in proportion.
 pub fn extrapolate(seconds: f64, rows: usize, height: u32) -> f64 {
     if rows == 0 {
         return f64::NAN;
@@ -305,7 +298,7 @@ pub fn markdown(t: &Table) -> String {
          (`shared/peers/embree`); the book used `rand()`. Times are wall-clock seconds: **grid** is \
          build + render (as the book's), **exhaustive** is the same renderer with \
          `AccelKind::Exhaustive` (every ray tests every sphere, same intersection and shading code). \
-         *est.* marks an exhaustive time extrapolated from the middle rows of the image (`--full` \
+         *est.* marks an exhaustive time extrapolated from evenly spread rows of the image (`--full` \
          measures every row).\n"
     );
 
@@ -574,12 +567,12 @@ pub fn markdown(t: &Table) -> String {
     if !est_rows.is_empty() {
         let _ = writeln!(
             md,
-            "- *est.*: at N = {} the exhaustive render covered only the middle rows of the image \
-             (an image that many rows high, same camera: the same rays bit for bit); the frame's \
-             time is that time × {res} / rows. Every exhaustive ray tests all N spheres, so the \
-             cost per row hardly varies; the middle rows hold the most hits (shading), so the \
-             estimate errs slightly on the slow side. Those rows were compared with the grid's \
-             image, pixel for pixel.",
+            "- *est.*: at N = {} the exhaustive render covered only some rows of the image, spread \
+             evenly over it (`Renderer::render_rows`: the same rays and pixels, bit for bit, as \
+             in the whole frame); the frame's time is that time × {res} / rows. Every exhaustive \
+             ray tests all N spheres, so the cost per row hardly varies, and evenly spread rows \
+             sample sky and spheres (shading) in proportion. Those rows were compared with the \
+             grid's image, pixel for pixel.",
             est_rows.join(", ")
         );
     }
@@ -647,23 +640,24 @@ mod tests {
     }
 
     #[test]
-    fn bands_are_centred_even_and_capped() {
-        assert_eq!(band_rows(4, 400), vec![198, 199, 200, 201]);
-        assert_eq!(band_rows(3, 400), vec![198, 199, 200, 201]);
-        assert_eq!(band_rows(1, 10), vec![4, 5]);
-        assert_eq!(band_rows(400, 400).len(), 400);
-        assert_eq!(band_rows(1000, 4), vec![0, 1, 2, 3]);
+    fn spread_rows_are_even_distinct_and_capped() {
+        assert_eq!(spread_rows(4, 400), vec![50, 150, 250, 350]);
+        assert_eq!(spread_rows(1, 10), vec![5]);
+        assert_eq!(spread_rows(3, 10), vec![1, 5, 8]);
+        assert_eq!(spread_rows(400, 400), (0..400).collect::<Vec<_>>());
+        assert_eq!(spread_rows(1000, 4), vec![0, 1, 2, 3]);
+        assert_eq!(spread_rows(0, 4), vec![2]);
     }
 
     #[test]
     fn budget_picks_rows_between_the_bounds() {
         // 400 rays per row × 1000 spheres = 4e5 tests per row.
         assert_eq!(rows_for_budget(1000, 400, 400, 1e9, 4), 400);
-        assert_eq!(rows_for_budget(1_000_000, 400, 400, 2e9, 4), 4);
+        assert_eq!(rows_for_budget(1_000_000, 400, 400, 2e9, 4), 5);
         assert_eq!(rows_for_budget(100_000, 400, 400, 1.6e9, 4), 40);
         assert_eq!(rows_for_budget(10_000, 400, 400, 1.6e9, 4), 400);
         assert_eq!(rows_for_budget(100_000, 400, 400, 1.2e9, 4), 30);
-        assert_eq!(rows_for_budget(100_000, 400, 400, 1.25e9, 4), 30);
+        assert_eq!(rows_for_budget(100_000, 400, 400, 1.25e9, 4), 31);
         assert_eq!(rows_for_budget(1_000_000, 400, 400, 1e6, 4), 4);
         assert_eq!(rows_for_budget(100_000, 400, 400, 2e9, 4), 50);
         assert_eq!(rows_for_budget(10, 400, 400, f64::INFINITY, 4), 400);

@@ -14,7 +14,7 @@ use gridrt_tracer::{
 };
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// A ray tracer built on a regular grid (after Suffern's "Ray Tracing from
@@ -122,9 +122,9 @@ pub struct AccelArgs {
 /// `--accel` values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Accel {
-    /// Regular grid, sparse Morton-keyed cells.
+    /// Regular grid, only occupied cells, in a hash table keyed by Morton code.
     Grid,
-    /// Regular grid, dense cell table.
+    /// Regular grid, a dense table of every cell.
     DenseGrid,
     /// Test every primitive (the baseline).
     Exhaustive,
@@ -180,16 +180,47 @@ impl AccelArgs {
 }
 
 /// Runs a parsed command line. Output goes to `out` (the summary, `rays`
-/// answers without `-o`), warnings to standard error.
+/// answers without `-o`), warnings to standard error. A render cannot be
+/// cancelled; see [`run_with_cancel`].
 ///
 /// # Errors
 /// Any [`Error`]; the binary prints it as `error: …` and exits with 1.
 pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
+    run_with_cancel(cli, out, &AtomicBool::new(false))
+}
+
+/// [`run`], with a flag that cancels a render when it becomes true (the
+/// binary raises it on Ctrl-C). A cancelled render writes nothing: neither
+/// the image nor the `--stats` file, and a file already at the output path
+/// is left as it was.
+///
+/// # Errors
+/// [`Error::Cancelled`] when the flag was raised before the image was
+/// written; any other [`Error`] as [`run`].
+pub fn run_with_cancel(cli: Cli, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()> {
     match cli.command {
-        None => render(&cli.render, out),
-        Some(Command::Render(a)) => render(&a, out),
+        None => render(&cli.render, out, cancel),
+        Some(Command::Render(a)) => render(&a, out, cancel),
         Some(Command::Info(a)) => info(&a, out),
         Some(Command::Rays(a)) => rays(&a, out),
+    }
+}
+
+impl Cli {
+    /// True when the command renders an image (`render`, or no subcommand):
+    /// the one command that [`run_with_cancel`] can cancel.
+    #[must_use]
+    pub fn renders(&self) -> bool {
+        matches!(self.command, None | Some(Command::Render(_)))
+    }
+}
+
+/// [`Error::Cancelled`] when `cancel` is raised.
+fn check_cancel(cancel: &AtomicBool) -> Result<()> {
+    if cancel.load(Ordering::SeqCst) {
+        Err(Error::Cancelled)
+    } else {
+        Ok(())
     }
 }
 
@@ -213,13 +244,16 @@ fn put(out: &mut dyn Write, text: &str) {
     let _ = out.write_all(text.as_bytes());
 }
 
-fn render(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
+fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()> {
     // Everything that can be checked before rendering is checked first.
     check_image_path(&a.output)?;
     if let Some(s) = &a.stats {
         check_output_dir(s)?;
     }
     let mut loaded = load(a.scene.as_deref())?;
+    // Loading and the grid build are not interruptible; a Ctrl-C during
+    // them is honoured as soon as they end.
+    check_cancel(cancel)?;
     warn(&loaded.warnings);
     apply_overrides(&mut loaded.scene.settings, a.width, a.height, a.spp)?;
     let options = a.accel.options(a.threads);
@@ -235,12 +269,13 @@ fn render(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
             b.set_position(done);
         }
     };
-    let cancel = AtomicBool::new(false);
-    let result = renderer.render(&progress, &cancel);
+    let result = renderer.render(&progress, cancel);
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
     let (image, stats) = result.map_err(|_| Error::Cancelled)?;
+    // A Ctrl-C after the last tile still means "stop, write nothing".
+    check_cancel(cancel)?;
     crate::write_framebuffer(&a.output, &image)?;
 
     let report = Report {

@@ -103,14 +103,27 @@ pub enum Error {
         msg: String,
     },
 
-    /// An input file whose type gridrt does not know (by extension).
+    /// An input file that is not a scene or model gridrt reads, judged by
+    /// its extension: a material library, a glTF buffer, a texture, a
+    /// licence file, a mesh format gridrt does not read (PLY, STL, …). Give
+    /// a `.ron` scene or an `.obj`, `.gltf` or `.glb` model instead (`gridrt
+    /// rays` takes models only); the message says what the file probably is.
     #[error(
-        "{}: unsupported file type{}: use a .ron scene, or an .obj, .gltf or .glb model",
-        .path.display(), ext_note(.path)
+        "{}: not a {} gridrt supports{}; {}",
+        .path.display(),
+        if *.models_only { "mesh" } else { "scene" },
+        ext_note(.path),
+        if *.models_only {
+            "use an .obj, .gltf or .glb model"
+        } else {
+            "use a .ron scene, or an .obj, .gltf or .glb model"
+        }
     )]
     UnsupportedInput {
         /// The file.
         path: PathBuf,
+        /// True where only models are accepted (`gridrt rays`), not scenes.
+        models_only: bool,
     },
 
     /// An output path that cannot be used: unknown extension, a directory
@@ -153,8 +166,11 @@ pub enum Error {
         msg: String,
     },
 
-    /// The render was cancelled before it finished; nothing was written.
-    #[error("interrupted: the render was cancelled and no output was written")]
+    /// The render was cancelled (Ctrl-C) before its image was written;
+    /// nothing was written and existing files were left as they were. The
+    /// binary prints this message without the `error: ` prefix and exits
+    /// with 130, as a shell does for a command stopped by Ctrl-C.
+    #[error("interrupted; nothing written")]
     Cancelled,
 }
 
@@ -225,12 +241,28 @@ fn io_message(e: &std::io::Error) -> String {
     format!("{e}{hint}")
 }
 
-/// The extension of `path`, quoted, for the unsupported-file message.
+/// The extension of `path`, quoted, and what a file with it probably is,
+/// for the unsupported-file message.
 fn ext_note(path: &Path) -> String {
-    match path.extension() {
-        Some(e) => format!(" \".{}\"", e.to_string_lossy()),
-        None => " (no extension)".to_string(),
-    }
+    let Some(ext) = path.extension() else {
+        return " (the file has no extension)".to_string();
+    };
+    let ext = ext.to_string_lossy();
+    let what = match ext.to_ascii_lowercase().as_str() {
+        "mtl" => ": it is an OBJ material library, give the .obj that uses it",
+        "bin" => ": it is probably a glTF buffer, give the .gltf that refers to it",
+        "png" | "jpg" | "jpeg" | "ktx2" | "webp" | "exr" | "hdr" | "tga" | "bmp" => {
+            ": it is an image, a texture or a render"
+        }
+        "ply" | "stl" | "fbx" | "dae" | "3ds" | "blend" | "usd" | "usda" | "usdc" | "usdz"
+        | "off" | "x3d" | "wrl" | "abc" => {
+            ": gridrt does not read this mesh format, convert it to OBJ or glTF (Blender, MeshLab)"
+        }
+        "txt" | "md" | "license" | "licence" => ": it is a text file",
+        "ron" => ": it is a scene file, which holds no mesh of its own",
+        _ => "",
+    };
+    format!(" (\".{ext}\"{what})")
 }
 
 /// Formats a place after a path: `:12:5: objects[2]` stays glued to the

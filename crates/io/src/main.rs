@@ -1,13 +1,32 @@
 //! The `gridrt` command-line renderer. Thin: clap parses the arguments,
-//! `gridrt_io::cli::run` does the work, and any error becomes one line
-//! `error: …` on standard error with exit code 1 (usage errors: 2, from clap).
+//! `gridrt_io::cli::run_with_cancel` does the work, and any error becomes
+//! one line `error: …` on standard error with exit code 1 (usage errors: 2,
+//! from clap).
+//!
+//! Ctrl-C during a render: the first one raises the cancel flag, the
+//! renderer stops after the tiles in progress, nothing is written (a file
+//! already at the output path is kept), `interrupted; nothing written` goes
+//! to standard error and the exit code is 130. A second Ctrl-C (when the
+//! first is not honoured fast enough, e.g. while a huge mesh loads) exits at
+//! once with 130. `info` and `rays` keep the default Ctrl-C behaviour.
 
 use clap::Parser;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Exit code of a command stopped by Ctrl-C (128 + SIGINT), as shells use.
+const EXIT_INTERRUPTED: u8 = 130;
+
+/// Raised by the Ctrl-C handler; polled by the renderer between tiles.
+static CANCEL: AtomicBool = AtomicBool::new(false);
 
 fn main() -> ExitCode {
     match try_main() {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e @ gridrt_io::Error::Cancelled) => {
+            eprintln!("{e}");
+            ExitCode::from(EXIT_INTERRUPTED)
+        }
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::FAILURE
@@ -17,5 +36,18 @@ fn main() -> ExitCode {
 
 fn try_main() -> gridrt_io::Result<()> {
     let cli = gridrt_io::cli::Cli::parse();
-    gridrt_io::cli::run(cli, &mut std::io::stdout().lock())
+    if cli.renders() {
+        // ctrlc runs this on its own thread, not in the signal handler, so
+        // printing and exiting here are safe.
+        let handler = || {
+            if CANCEL.swap(true, Ordering::SeqCst) {
+                eprintln!("{}", gridrt_io::Error::Cancelled);
+                std::process::exit(i32::from(EXIT_INTERRUPTED));
+            }
+        };
+        if let Err(e) = ctrlc::set_handler(handler) {
+            eprintln!("warning: cannot handle Ctrl-C ({e}); it will stop gridrt at once");
+        }
+    }
+    gridrt_io::cli::run_with_cancel(cli, &mut std::io::stdout().lock(), &CANCEL)
 }

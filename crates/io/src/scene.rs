@@ -60,6 +60,7 @@ pub fn load_scene(path: &Path) -> Result<LoadedScene> {
     } else {
         Err(Error::UnsupportedInput {
             path: path.to_path_buf(),
+            models_only: false,
         })
     }
 }

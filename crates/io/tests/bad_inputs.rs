@@ -259,7 +259,10 @@ fn missing_unreadable_and_unknown_files() {
     let txt = dir.path().join("scene.txt");
     std::fs::write(&txt, "hello").unwrap();
     let msg = load_scene(&txt).unwrap_err().to_string();
-    assert!(msg.contains("unsupported file type \".txt\""), "{msg}");
+    assert!(
+        msg.contains("scene.txt: not a scene gridrt supports (\".txt\": it is a text file)"),
+        "{msg}"
+    );
     // An unreadable file (permissions; root can read anything, so only
     // checked when the read really fails).
     #[cfg(unix)]
@@ -308,5 +311,64 @@ fn random_garbage_never_panics() {
         let p = dir.path().join(format!("m{round}.{ext}"));
         std::fs::write(&p, s).unwrap();
         let _ = load_scene(&p);
+    }
+}
+
+/// Files that sit beside models (material libraries, glTF buffers,
+/// textures) and mesh formats gridrt does not read are refused with a
+/// message that says what the file is and what to give instead.
+#[test]
+fn companion_files_are_not_scenes() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, note) in [
+        ("model.mtl", "OBJ material library, give the .obj"),
+        ("model0.bin", "glTF buffer, give the .gltf"),
+        ("albedo.PNG", "it is an image"),
+        ("bunny.ply", "convert it to OBJ or glTF"),
+        ("LICENSE", "the file has no extension"),
+    ] {
+        let p = dir.path().join(name);
+        std::fs::write(&p, b"\x89PNG\0\0 not a scene").unwrap();
+        let err = load_scene(&p).unwrap_err();
+        assert!(
+            matches!(err, gridrt_io::Error::UnsupportedInput { .. }),
+            "{err:?}"
+        );
+        let msg = err.to_string();
+        assert!(msg.contains("not a scene gridrt supports"), "{msg}");
+        assert!(msg.contains(note), "{msg}");
+        assert!(
+            msg.ends_with("use a .ron scene, or an .obj, .gltf or .glb model"),
+            "{msg}"
+        );
+    }
+    // Where only meshes are accepted (a scene's Mesh, `gridrt rays`), a
+    // scene file is not one.
+    let msg = gridrt_io::load_model(&dir.path().join("scene.ron"))
+        .unwrap_err()
+        .to_string();
+    assert!(msg.contains("not a mesh gridrt supports"), "{msg}");
+    assert!(msg.ends_with("use an .obj, .gltf or .glb model"), "{msg}");
+}
+
+/// An image or an empty file renamed to a model extension is named as such,
+/// not reported as a JSON syntax error or an OBJ without faces.
+#[test]
+fn wrong_content_behind_a_model_extension() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR";
+    let cases: [(&str, &[u8], &str); 5] = [
+        ("image.glb", png, "a .glb file starts with the bytes `glTF`"),
+        ("image.gltf", png, "a .gltf file is JSON text"),
+        ("empty.glb", b"", "the file is empty"),
+        ("blank.gltf", b" \n", "the file is empty"),
+        ("image.obj", png, "the file is binary, not OBJ text"),
+    ];
+    for (name, bytes, note) in cases {
+        let p = dir.path().join(name);
+        std::fs::write(&p, bytes).unwrap();
+        let msg = load_scene(&p).unwrap_err().to_string();
+        assert!(msg.starts_with(&p.display().to_string()), "{msg}");
+        assert!(msg.contains(note), "{msg}");
     }
 }

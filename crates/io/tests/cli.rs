@@ -282,3 +282,108 @@ fn rays_number_gltf_triangles_in_node_order() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(stdout(&o), "3,27,0.25,0.25\n");
 }
+
+/// Ctrl-C (SIGINT) during a render stops it: exit code 130, one line
+/// `interrupted; nothing written`, the file already at the output path kept
+/// and no temporary file left. Linux only: readiness is read from
+/// `/proc/PID/status` (the SIGINT bit of `SigCgt` is set once gridrt has
+/// installed its handler), so the signal never races the start-up.
+#[cfg(target_os = "linux")]
+#[test]
+fn ctrl_c_cancels_a_render_and_writes_nothing() {
+    use std::process::Stdio;
+    use std::time::{Duration, Instant};
+
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("out.png"), b"an older image").unwrap();
+    // Minutes of work on one thread, but 16×16-pixel tiles of a few
+    // milliseconds each, so cancellation is prompt.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gridrt"))
+        .args([
+            "render", "--width", "1024", "--height", "1024", "--spp", "1024",
+        ])
+        .args(["--threads", "1", "--stats", "stats.json", "-o", "out.png"])
+        .current_dir(dir.path())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let pid = child.id().to_string();
+    let start = Instant::now();
+    let handler_installed = || {
+        let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
+        status
+            .lines()
+            .find_map(|l| l.strip_prefix("SigCgt:"))
+            .and_then(|m| u64::from_str_radix(m.trim(), 16).ok())
+            .is_some_and(|mask| mask & (1 << (2 - 1)) != 0) // SIGINT = 2
+    };
+    while !handler_installed() {
+        if start.elapsed() > Duration::from_secs(3) {
+            let _ = child.kill();
+            panic!("gridrt installed no SIGINT handler within 3 s");
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    // Let the render itself start (loading the built-in scene is instant).
+    std::thread::sleep(Duration::from_millis(200));
+    let kill = Command::new("kill").args(["-INT", &pid]).status().unwrap();
+    assert!(kill.success());
+    let sent = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if sent.elapsed() > Duration::from_secs(4) {
+            let _ = child.kill();
+            panic!("gridrt still running 4 s after SIGINT");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(status.code(), Some(130), "stderr: {}", stderr(&o));
+    assert_eq!(stderr(&o), "interrupted; nothing written\n");
+    assert_eq!(stdout(&o), "");
+    assert_eq!(
+        std::fs::read(dir.path().join("out.png")).unwrap(),
+        b"an older image"
+    );
+    let left: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(left, ["out.png"], "no stats file, no temporary file");
+}
+
+/// In-process and on every platform: a render whose cancel flag is already
+/// raised returns `Cancelled` and writes neither the image nor the stats.
+#[test]
+fn a_cancelled_render_writes_nothing() {
+    use clap::Parser;
+    use std::sync::atomic::AtomicBool;
+
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.png");
+    let stats = dir.path().join("stats.json");
+    std::fs::write(&out, b"an older image").unwrap();
+    let cli = gridrt_io::cli::Cli::try_parse_from([
+        "gridrt".as_ref(),
+        "--width".as_ref(),
+        "32".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--stats".as_ref(),
+        stats.as_os_str(),
+    ])
+    .unwrap();
+    assert!(cli.renders());
+    let mut summary = Vec::new();
+    let err =
+        gridrt_io::cli::run_with_cancel(cli, &mut summary, &AtomicBool::new(true)).unwrap_err();
+    assert!(matches!(err, gridrt_io::Error::Cancelled), "{err:?}");
+    assert_eq!(err.to_string(), "interrupted; nothing written");
+    assert!(summary.is_empty());
+    assert_eq!(std::fs::read(&out).unwrap(), b"an older image");
+    assert!(!stats.exists());
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+}

@@ -70,3 +70,49 @@ fn stadium_obj_and_gltf_agree() {
     }
     assert!(worst < 1e-3, "largest vertex difference {worst}");
 }
+
+/// Every other file in shared/scenes (MTL, glTF buffers, textures, the
+/// SOURCE.txt notes) is refused as "not a scene", never read as one.
+#[test]
+fn shared_companion_files_are_refused() {
+    let Some(root) = shared_scenes() else { return };
+    let mut files = vec![root.join("INDEX.txt")];
+    for dir in std::fs::read_dir(&root).unwrap() {
+        let dir = dir.unwrap().path();
+        if dir.is_dir() {
+            files.extend(std::fs::read_dir(&dir).unwrap().map(|f| f.unwrap().path()));
+        }
+    }
+    let mut n = 0;
+    for f in files {
+        let ext = f.extension().map(|e| e.to_string_lossy().to_lowercase());
+        if matches!(ext.as_deref(), Some("obj" | "gltf" | "glb" | "ron")) {
+            continue;
+        }
+        let err = load_scene(&f).unwrap_err();
+        assert!(
+            matches!(err, gridrt_io::Error::UnsupportedInput { .. }),
+            "{}: {err}",
+            f.display()
+        );
+        n += 1;
+    }
+    assert!(n >= 30, "only {n} companion files found");
+}
+
+/// The scenes behind the README's model images (`docs/model-*.ron`) read
+/// their meshes from shared/scenes; they load and keep their two objects.
+#[test]
+fn readme_model_scenes_load() {
+    let Some(_) = shared_scenes() else { return };
+    let docs = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../docs");
+    for name in ["model-obj.ron", "model-gltf.ron"] {
+        let s = load_scene(&docs.join(name)).unwrap_or_else(|e| panic!("{e}"));
+        assert!(!s.framed_camera, "{name}");
+        assert!(s.scene.objects.len() >= 2, "{name}");
+        assert_eq!(
+            (s.scene.settings.width, s.scene.settings.height),
+            (640, 480)
+        );
+    }
+}

@@ -194,6 +194,7 @@ macro_rules! with_accel {
 /// The accelerator of a prepared scene: spheres only get the compact
 /// [`Sphere`] primitive, other scenes the [`Shape`] enum.
 #[derive(Debug)]
+#[allow(clippy::large_enum_variant)] // one per renderer
 enum Accel {
     Spheres(AccelOf<Sphere>),
     Shapes(AccelOf<Shape>),
@@ -300,24 +301,33 @@ impl Pool {
     }
 }
 
-fn build_accel<P: Primitive + Send>(
-    prims: Vec<P>,
-    options: &RenderOptions,
-) -> (AccelOf<P>, Option<GridStats>) {
+/// The grid configuration the options ask for (`None`: exhaustive).
+fn grid_config(options: &RenderOptions) -> Option<GridConfig> {
     let mut config = options.grid;
     if options.threads == Some(1) {
         config.parallel_build = false;
     }
     match options.accel {
-        AccelKind::Grid | AccelKind::DenseGrid => {
-            if options.accel == AccelKind::DenseGrid {
-                config.storage = CellStorage::Dense;
-            }
+        AccelKind::Grid => Some(config),
+        AccelKind::DenseGrid => {
+            config.storage = CellStorage::Dense;
+            Some(config)
+        }
+        AccelKind::Exhaustive => None,
+    }
+}
+
+fn build_accel<P: Primitive + Send>(
+    prims: Vec<P>,
+    options: &RenderOptions,
+) -> (AccelOf<P>, Option<GridStats>) {
+    match grid_config(options) {
+        Some(config) => {
             let grid = Grid::build(prims, &config);
             let stats = grid.stats().clone();
             (AccelOf::Grid(grid), Some(stats))
         }
-        AccelKind::Exhaustive => (AccelOf::Exhaustive(Exhaustive::new(prims)), None),
+        None => (AccelOf::Exhaustive(Exhaustive::new(prims)), None),
     }
 }
 
@@ -416,6 +426,12 @@ impl Renderer {
         self.prim_count
     }
 
+    /// The image size in pixels, `(width, height)`.
+    #[must_use]
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
     /// Renders the image. `progress(done, total)` is called (from worker
     /// threads) after each tile, in pixels. When `cancel` becomes true the
     /// remaining tiles are skipped and the answer is [`Cancelled`].
@@ -427,11 +443,59 @@ impl Renderer {
         progress: &(dyn Fn(u64, u64) + Sync),
         cancel: &AtomicBool,
     ) -> Result<(Framebuffer, RenderStats), Cancelled> {
+        let all: Vec<u32> = (0..self.height).collect();
+        self.render_job(&all, progress, cancel)
+    }
+
+    /// Renders only the image rows listed in `rows` (row 0 at the top; any
+    /// order, repeats allowed), for example every k-th row to estimate the
+    /// cost of a frame too slow to render whole. The answer is an image
+    /// `width × rows.len()` whose row `i` is image row `rows[i]`, bit for bit
+    /// as [`Renderer::render`] would give it: a pixel depends only on its
+    /// position in the full image, never on which other rows are rendered or
+    /// on the threads. The statistics count the rays and hits of these rows;
+    /// `progress` reports pixels of these rows.
+    ///
+    /// ```
+    /// use gridrt_tracer::{suffern, RenderOptions, Renderer};
+    /// use std::sync::atomic::AtomicBool;
+    /// let r = suffern::renderer(100, suffern::DEFAULT_SEED, &RenderOptions::default()).unwrap();
+    /// let never = AtomicBool::new(false);
+    /// let (full, _) = r.render(&|_, _| {}, &never).unwrap();
+    /// let (part, _) = r.render_rows(&[10, 200, 390], &|_, _| {}, &never).unwrap();
+    /// assert_eq!((part.width, part.height), (400, 3));
+    /// assert_eq!(part.pixels[400..800], full.pixels[200 * 400..201 * 400]);
+    /// ```
+    ///
+    /// # Errors
+    /// [`Cancelled`] when the flag was raised.
+    ///
+    /// # Panics
+    /// When a row is not below the image height ([`Renderer::size`]).
+    pub fn render_rows(
+        &self,
+        rows: &[u32],
+        progress: &(dyn Fn(u64, u64) + Sync),
+        cancel: &AtomicBool,
+    ) -> Result<(Framebuffer, RenderStats), Cancelled> {
+        if let Some(&y) = rows.iter().find(|&&y| y >= self.height) {
+            panic!("row {y} outside an image {} rows high", self.height);
+        }
+        self.render_job(rows, progress, cancel)
+    }
+
+    fn render_job(
+        &self,
+        rows: &[u32],
+        progress: &(dyn Fn(u64, u64) + Sync),
+        cancel: &AtomicBool,
+    ) -> Result<(Framebuffer, RenderStats), Cancelled> {
         let start = Instant::now();
         let job = Job {
             camera: &self.camera,
             width: self.width,
             height: self.height,
+            rows,
             spp: self.spp,
             progress,
             cancel,
@@ -458,10 +522,12 @@ impl Renderer {
     /// [`Renderer::render`] splits frame time into traversal and shading.
     #[must_use]
     pub fn count_camera_hits(&self) -> u64 {
+        let all: Vec<u32> = (0..self.height).collect();
         let job = Job {
             camera: &self.camera,
             width: self.width,
             height: self.height,
+            rows: &all,
             spp: 1,
             progress: &|_, _| {},
             cancel: &AtomicBool::new(false),
@@ -532,12 +598,13 @@ impl Integrator for HitOnly {
 /// Side of a square tile, in pixels.
 const TILE: u32 = 16;
 
+/// Columns `x0..x1` of the rows `job.rows[k0..k1]`.
 #[derive(Clone, Copy, Debug)]
 struct Tile {
     x0: u32,
-    y0: u32,
     x1: u32,
-    y1: u32,
+    k0: usize,
+    k1: usize,
 }
 
 struct TileOut {
@@ -558,6 +625,8 @@ struct Job<'a> {
     camera: &'a CameraModel,
     width: u32,
     height: u32,
+    /// The image rows to render (row 0 at the top), in output order.
+    rows: &'a [u32],
     spp: u32,
     progress: &'a (dyn Fn(u64, u64) + Sync),
     cancel: &'a AtomicBool,
@@ -626,15 +695,16 @@ impl Job<'_> {
         }
     }
 
+    /// Tiles of up to `TILE` columns by `TILE` listed rows.
     fn tiles(&self) -> Vec<Tile> {
         let mut tiles = Vec::new();
-        for y0 in (0..self.height).step_by(TILE as usize) {
+        for k0 in (0..self.rows.len()).step_by(TILE as usize) {
             for x0 in (0..self.width).step_by(TILE as usize) {
                 tiles.push(Tile {
                     x0,
-                    y0,
                     x1: (x0 + TILE).min(self.width),
-                    y1: (y0 + TILE).min(self.height),
+                    k0,
+                    k1: (k0 + TILE as usize).min(self.rows.len()),
                 });
             }
         }
@@ -642,7 +712,8 @@ impl Job<'_> {
     }
 
     /// Renders every tile (in parallel when the pool has threads) and
-    /// assembles the image. Per-tile ray counts are summed in tile order.
+    /// assembles the image of the listed rows. Per-tile ray counts are
+    /// summed in tile order.
     fn run<A, I, const JITTER: bool>(
         &self,
         accel: &A,
@@ -655,7 +726,7 @@ impl Job<'_> {
     {
         let tr = Tracer { accel, data };
         let tiles = self.tiles();
-        let total = u64::from(self.width) * u64::from(self.height);
+        let total = u64::from(self.width) * self.rows.len() as u64;
         let one = |ts: &mut ThreadState<A::Scratch>, tile: &Tile| -> Option<TileOut> {
             if self.cancel.load(Ordering::Relaxed) {
                 return None;
@@ -674,13 +745,14 @@ impl Job<'_> {
         if self.cancel.load(Ordering::Relaxed) || outs.iter().any(Option::is_none) {
             return Err(Cancelled);
         }
-        let mut image = Framebuffer::new(self.width, self.height);
+        let height = u32::try_from(self.rows.len()).expect("rows fit an image");
+        let mut image = Framebuffer::new(self.width, height);
         let mut rays = RayCounts::default();
         let mut pixels_hit = 0;
         for o in outs.into_iter().flatten() {
             let w = (o.tile.x1 - o.tile.x0) as usize;
-            for (row, y) in (o.tile.y0..o.tile.y1).enumerate() {
-                let start = y as usize * self.width as usize + o.tile.x0 as usize;
+            for (row, k) in (o.tile.k0..o.tile.k1).enumerate() {
+                let start = k * self.width as usize + o.tile.x0 as usize;
                 image.pixels[start..start + w].copy_from_slice(&o.pixels[row * w..(row + 1) * w]);
             }
             rays += o.rays;
@@ -708,9 +780,10 @@ impl Job<'_> {
         I: Integrator,
     {
         ts.counts = RayCounts::default();
-        let mut pixels = Vec::with_capacity(((tile.x1 - tile.x0) * (tile.y1 - tile.y0)) as usize);
+        let mut pixels = Vec::with_capacity((tile.x1 - tile.x0) as usize * (tile.k1 - tile.k0));
         let mut hits = 0;
-        for y in tile.y0..tile.y1 {
+        for &y in &self.rows[tile.k0..tile.k1] {
+            debug_assert!(y < self.height);
             let r = self.height - 1 - y;
             if JITTER {
                 for x in tile.x0..tile.x1 {

@@ -13,5 +13,7 @@ mod mirror;
 mod plan;
 mod precision;
 mod progress;
+mod rows;
 mod suffern;
+mod ties;
 mod watertight;

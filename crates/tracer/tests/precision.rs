@@ -115,7 +115,10 @@ fn assert_no_shadow_acne(shift: Vec3) {
                 }
             }
         }
-        assert_eq!(dark, 0, "{floor:?}: {dark} shadowed floor pixels (shift {shift:?})");
+        assert_eq!(
+            dark, 0,
+            "{floor:?}: {dark} shadowed floor pixels (shift {shift:?})"
+        );
         assert_eq!(stats.rays.shadow, 2 * stats.pixels_hit, "{floor:?}");
     }
 }

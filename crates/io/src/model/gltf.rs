@@ -30,6 +30,7 @@ const MAX_DEPTH: usize = 256;
 /// Reads a `.gltf` or `.glb` file.
 pub(crate) fn load(path: &Path) -> Result<Model> {
     let bytes = std::fs::read(path).map_err(|e| Error::read(path, e))?;
+    check_kind(path, &bytes)?;
     let gltf =
         gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| parse_error(path, e))?;
     validate(path, &gltf.document)?;
@@ -111,6 +112,33 @@ pub(crate) fn load(path: &Path) -> Result<Model> {
         lights: loader.lights,
         warnings: loader.warnings,
     })
+}
+
+/// Rejects files that are neither glTF JSON nor a GLB container before the
+/// parser does, with a message about what the file is rather than a JSON
+/// syntax error at 1:1 (an empty file, an image renamed `.glb`).
+fn check_kind(path: &Path, bytes: &[u8]) -> Result<()> {
+    let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    let first = text.iter().find(|b| !b.is_ascii_whitespace());
+    if bytes.starts_with(b"glTF") || first == Some(&b'{') {
+        return Ok(());
+    }
+    let msg = if first.is_none() {
+        "the file is empty: export the model again".to_string()
+    } else {
+        let glb = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("glb"));
+        format!(
+            "not a glTF file: {} (is it really glTF?)",
+            if glb {
+                "a .glb file starts with the bytes `glTF`"
+            } else {
+                "a .gltf file is JSON text starting with `{`"
+            }
+        )
+    };
+    Err(Error::gltf(path, "", msg))
 }
 
 /// A gltf parse error as ours: JSON errors carry line and column.

@@ -113,6 +113,7 @@ pub fn load_model(path: &Path) -> Result<Model> {
         Some(ModelFormat::Gltf) => gltf::load(path),
         None => Err(Error::UnsupportedInput {
             path: path.to_path_buf(),
+            models_only: true,
         }),
     }
 }

@@ -18,6 +18,16 @@ use std::path::Path;
 /// Reads an OBJ file and the MTL libraries it names.
 pub(crate) fn load(path: &Path) -> Result<Model> {
     let bytes = std::fs::read(path).map_err(|e| Error::read(path, e))?;
+    // OBJ is text: a NUL byte near the start means an image or a binary
+    // mesh with the wrong extension, which would otherwise read as an OBJ
+    // with no faces.
+    if bytes[..bytes.len().min(8192)].contains(&0) {
+        return Err(Error::obj(
+            path,
+            None,
+            "the file is binary, not OBJ text (is it really an OBJ?)",
+        ));
+    }
     let text = String::from_utf8_lossy(&bytes);
     let mut warnings = Vec::new();
     validate_obj(path, &text, &mut warnings)?;
