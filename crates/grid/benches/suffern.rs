@@ -5,7 +5,8 @@
 //! `cargo bench -p gridrt-grid --bench suffern` runs the default set. The
 //! environment variable `SUFFERN` selects parts, comma-separated:
 //! `spheres` (N = 1e3…1e6), `mesh` (1,024,000 triangles), `bunny`,
-//! `sweep` (m and storage sweep), `mailbox`, `exhaustive`; `SUFFERN_N`
+//! `copies` (spheres copied into cell order), `sorted`, `sweep` (m and
+//! storage sweep), `mailbox`, `exhaustive`; `SUFFERN_N`
 //! overrides the list of N. Timings are best of several runs, in one thread
 //! (the build also with rayon).
 
@@ -105,11 +106,22 @@ struct Row {
     dims: [u32; 3],
 }
 
-fn measure<P: Primitive + Clone>(
+fn measure<P: Primitive + Clone + Send>(
     prims: &[P],
     rays: &[Ray],
     config: &GridConfig,
     reps: usize,
+) -> Row {
+    measure_with(prims, rays, config, reps, Grid::build)
+}
+
+/// As [`measure`], building every grid with `build`.
+fn measure_with<P: Primitive + Clone>(
+    prims: &[P],
+    rays: &[Ray],
+    config: &GridConfig,
+    reps: usize,
+    build: fn(Vec<P>, &GridConfig) -> Grid<P>,
 ) -> Row {
     let seq = GridConfig {
         parallel_build: false,
@@ -120,17 +132,17 @@ fn measure<P: Primitive + Clone>(
     for _ in 0..3 {
         let p = prims.to_vec();
         let t = thread_cpu();
-        let g = black_box(Grid::build(p, &seq));
+        let g = black_box(build(p, &seq));
         build_seq = build_seq.min(thread_cpu() - t);
         drop(g);
     }
     let mut build_par = Duration::MAX;
-    let mut g = Grid::build(prims.to_vec(), config);
+    let mut g = build(prims.to_vec(), config);
     for _ in 0..3 {
         let p = prims.to_vec();
         drop(g);
         let t = Instant::now();
-        g = black_box(Grid::build(p, config));
+        g = black_box(build(p, config));
         build_par = build_par.min(t.elapsed());
     }
     trace(&g, rays);
@@ -332,6 +344,14 @@ fn main() {
                 let c = GridConfig { storage, ..base };
                 print_row(&format!("sorted{n}"), &c, &measure(&s, &rays, &c, 5));
             }
+        }
+    }
+    if has("copies") {
+        // The spheres copied into cell order (`Grid::build_with_copies`).
+        for &n in &ns() {
+            let s = scenes::suffern_spheres(n);
+            let r = measure_with(&s, &rays, &base, 5, Grid::build_with_copies);
+            print_row(&format!("copies{n}"), &base, &r);
         }
     }
     if has("sweep") {

@@ -38,6 +38,9 @@ pub struct Grid<P> {
     geom: Geom,
     cells: Cells,
     refs: Box<[u32]>,
+    /// A copy of each referenced primitive, in reference order (empty
+    /// unless built by [`Grid::build_with_copies`]).
+    copies: Box<[P]>,
     unbounded: Box<[u32]>,
     spread: [Box<[u64]>; 3],
     blocks: BlockMap,
@@ -171,9 +174,42 @@ impl<'a, B, F: FnMut(CellVisit, &'a [u32]) -> ControlFlow<B>> CellFn<'a> for FnC
     }
 }
 
+/// Where a query finds the primitive of each reference of a cell: in the
+/// grid's copies (stored in reference order, so a cell's primitives are
+/// contiguous in memory) or, without copies, through the index.
+struct CellPrims<'q, P> {
+    refs: &'q [u32],
+    copies: &'q [P],
+}
+
+// Not derived: that would ask for `P: Copy`.
+impl<P> Clone for CellPrims<'_, P> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<P> Copy for CellPrims<'_, P> {}
+
+impl<'q, P> CellPrims<'q, P> {
+    /// The copies of the primitives of `cell`, a non-empty run of the
+    /// grid's references (the lookups hand out nothing else); empty when the
+    /// grid keeps no copies.
+    #[inline(always)]
+    fn of(self, cell: &[u32]) -> &'q [P] {
+        if self.copies.is_empty() {
+            return &[];
+        }
+        let start =
+            (cell.as_ptr() as usize - self.refs.as_ptr() as usize) / std::mem::size_of::<u32>();
+        &self.copies[start..start + cell.len()]
+    }
+}
+
 /// The closest-hit query's per-cell work.
 struct Closest<'q, P, C, const MB: bool> {
     prims: &'q [P],
+    cells: CellPrims<'q, P>,
     ray: &'q Ray,
     t_min: Real,
     /// `t_max`, then the best hit's t.
@@ -188,11 +224,17 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
     /// Tests one primitive, keeping its hit if it is better ([`Hit::is_better_than`]).
     #[inline(always)]
     fn test(&mut self, p: u32) {
-        self.counters.test();
         debug_assert!((p as usize) < self.prims.len());
         // SAFETY: every stored reference is a valid primitive index
         // (checked by `check_invariants`).
         let prim = unsafe { self.prims.get_unchecked(p as usize) };
+        self.test_prim(p, prim);
+    }
+
+    /// Tests primitive `p`, given as `prim` (the original or a copy).
+    #[inline(always)]
+    fn test_prim(&mut self, p: u32, prim: &P) {
+        self.counters.test();
         if let Some(h) = prim.closest_hit(self.ray, self.t_min, self.t_lim) {
             let hit = Hit::new(h, p);
             if self.best.as_ref().map_or(true, |b| hit.is_better_than(b)) {
@@ -212,7 +254,8 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for Closest<'_, P
         if refs.is_empty() {
             return ControlFlow::Continue(());
         }
-        for &p in refs {
+        let copies = self.cells.of(refs);
+        for (k, &p) in refs.iter().enumerate() {
             if MB {
                 debug_assert!((p as usize) < self.stamps.len());
                 // SAFETY: `GridScratch::begin` sized the stamps to the primitive count.
@@ -223,7 +266,10 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for Closest<'_, P
                 }
                 *s = self.stamp;
             }
-            self.test(p);
+            match copies.get(k) {
+                Some(prim) => self.test_prim(p, prim),
+                None => self.test(p),
+            }
         }
         // Stop only when the best hit is certainly inside this cell: a hit on
         // (or within rounding of) the exit plane may tie with a lower-index
@@ -241,6 +287,7 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for Closest<'_, P
 /// The any-hit query's per-cell work.
 struct AnyHit<'q, P, C, const MB: bool> {
     prims: &'q [P],
+    cells: CellPrims<'q, P>,
     ray: &'q Ray,
     t_min: Real,
     t_max: Real,
@@ -255,7 +302,11 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for AnyHit<'_, P,
     #[inline(always)]
     fn call(&mut self, _: CellVisit, refs: &'a [u32]) -> ControlFlow<()> {
         self.counters.cell();
-        for &p in refs {
+        if refs.is_empty() {
+            return ControlFlow::Continue(());
+        }
+        let copies = self.cells.of(refs);
+        for (k, &p) in refs.iter().enumerate() {
             if MB {
                 // SAFETY: `GridScratch::begin` sized the stamps to the primitive count.
                 let s = unsafe { self.stamps.get_unchecked_mut(p as usize) };
@@ -267,7 +318,9 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for AnyHit<'_, P,
             }
             self.counters.test();
             // SAFETY: every stored reference is a valid primitive index.
-            let prim = unsafe { self.prims.get_unchecked(p as usize) };
+            let prim = copies
+                .get(k)
+                .unwrap_or_else(|| unsafe { self.prims.get_unchecked(p as usize) });
             if prim.any_hit(self.ray, self.t_min, self.t_max) {
                 return ControlFlow::Break(());
             }
@@ -335,6 +388,7 @@ impl<P: Primitive> Grid<P> {
             geom: b.geom,
             cells: b.cells,
             refs: b.refs,
+            copies: Box::new([]),
             unbounded: b.unbounded,
             spread: b.spread,
             blocks: BlockMap::default(),
@@ -383,6 +437,13 @@ impl<P: Primitive> Grid<P> {
             build_time,
         };
         grid
+    }
+
+    fn cell_prims(&self) -> CellPrims<'_, P> {
+        CellPrims {
+            refs: &self.refs,
+            copies: &self.copies,
+        }
     }
 
     /// Numbers describing the grid (dimensions, occupancy, memory, build time).
@@ -581,6 +642,7 @@ impl<P: Primitive> Grid<P> {
         }
         let mut q = Closest::<P, C, MB> {
             prims: &self.prims,
+            cells: self.cell_prims(),
             ray,
             t_min,
             t_lim: t_max,
@@ -632,6 +694,7 @@ impl<P: Primitive> Grid<P> {
         };
         let mut q = AnyHit::<P, C, MB> {
             prims: &self.prims,
+            cells: self.cell_prims(),
             ray,
             t_min,
             t_max,
@@ -665,6 +728,23 @@ impl<P: Primitive> Grid<P> {
     pub fn check_invariants(&self) -> Result<(), String> {
         let g = &self.geom;
         let n = self.prims.len();
+        if !self.copies.is_empty() {
+            if self.copies.len() != self.refs.len() {
+                return Err(format!(
+                    "{} copies for {} references",
+                    self.copies.len(),
+                    self.refs.len()
+                ));
+            }
+            let differs = |(c, &r): (&P, &u32)| {
+                self.prims
+                    .get(r as usize)
+                    .map_or(true, |p| p.bounds() != c.bounds())
+            };
+            if let Some(k) = self.copies.iter().zip(self.refs.iter()).position(differs) {
+                return Err(format!("copy {k} is not primitive {}", self.refs[k]));
+            }
+        }
         if g.is_empty() {
             if !self.refs.is_empty() || !matches!(self.cells, Cells::Empty) {
                 return Err("empty grid with cells or references".into());
@@ -817,6 +897,66 @@ impl<P: Primitive> Grid<P> {
     }
 }
 
+impl<P: Primitive + Clone + Send> Grid<P> {
+    /// Like [`Grid::build`], and also stores a copy of every referenced
+    /// primitive in reference order, so that the primitives of a cell lie
+    /// next to each other in memory. A query then reads each cell's
+    /// primitives in one sweep instead of jumping to wherever the scene
+    /// order put them: for small primitives in large scenes (a million
+    /// spheres in random order) most of a query's time is those cache
+    /// misses. It costs the copies' memory (in [`GridStats::bytes`]) and a
+    /// pass over the references at build time (in parallel when the
+    /// configuration allows). Answers are identical with and without.
+    ///
+    /// ```
+    /// use gridrt_grid::{Aabb, Accelerator, Grid, GridConfig, PrimHit, Primitive, Ray, Real, Vec3};
+    /// # #[derive(Clone)]
+    /// # struct Ball(Vec3, Real);
+    /// # impl Primitive for Ball {
+    /// #     fn bounds(&self) -> Aabb {
+    /// #         Aabb::new(self.0 - Vec3::splat(self.1), self.0 + Vec3::splat(self.1))
+    /// #     }
+    /// #     fn closest_hit(&self, ray: &Ray, t0: Real, t1: Real) -> Option<PrimHit> {
+    /// #         let oc = ray.origin - self.0;
+    /// #         let (a, b, c) = (ray.dir.dot(ray.dir), oc.dot(ray.dir), oc.dot(oc) - self.1 * self.1);
+    /// #         let disc = b * b - a * c;
+    /// #         if disc < 0.0 {
+    /// #             return None;
+    /// #         }
+    /// #         let s = disc.sqrt();
+    /// #         [(-b - s) / a, (-b + s) / a].into_iter().find(|t| (t0..=t1).contains(t)).map(|t| PrimHit { t, u: 0.0, v: 0.0 })
+    /// #     }
+    /// # }
+    /// // `Ball` is the sphere of the crate example.
+    /// let spheres: Vec<Ball> = (0..100).map(|i| Ball(Vec3::new(i as Real, 0.0, 0.0), 0.4)).collect();
+    /// let plain = Grid::build(spheres.clone(), &GridConfig::default());
+    /// let fast = Grid::build_with_copies(spheres, &GridConfig::default());
+    /// let ray = Ray::new(Vec3::new(-5.0, 0.1, 0.0), Vec3::X);
+    /// let a = plain.closest_hit(&ray, 0.0, Real::INFINITY, &mut plain.scratch());
+    /// let b = fast.closest_hit(&ray, 0.0, Real::INFINITY, &mut fast.scratch());
+    /// assert_eq!(a, b);
+    /// assert_eq!(b.unwrap().prim, 0);
+    /// assert!(fast.stats().bytes > plain.stats().bytes);
+    /// ```
+    ///
+    /// # Panics
+    ///
+    /// As [`Grid::build`].
+    #[must_use]
+    pub fn build_with_copies(prims: Vec<P>, config: &GridConfig) -> Self {
+        let start = Instant::now();
+        let mut grid = Self::build(prims, config);
+        let prims = &grid.prims;
+        let copies = crate::par::map_slice(&grid.refs, config.parallel_build, |&r| {
+            prims[r as usize].clone()
+        });
+        grid.copies = copies.into_boxed_slice();
+        grid.stats.bytes += std::mem::size_of_val(&*grid.copies);
+        grid.stats.build_time = start.elapsed();
+        grid
+    }
+}
+
 impl<P: Primitive> Accelerator for Grid<P> {
     type Prim = P;
     type Scratch = GridScratch;
@@ -856,6 +996,13 @@ impl<P: Primitive> Accelerator for Grid<P> {
 }
 
 impl<P> Grid<P> {
+    /// Whether the grid keeps copies of its primitives in reference order
+    /// ([`Grid::build_with_copies`]).
+    #[must_use]
+    pub fn has_copies(&self) -> bool {
+        !self.copies.is_empty()
+    }
+
     /// The cell storage in use ([`GridConfig::storage`]).
     #[must_use]
     pub fn storage(&self) -> CellStorage {

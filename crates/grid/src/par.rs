@@ -17,6 +17,22 @@ pub(crate) fn map_indices<R: Send>(
     (0..n).map(f).collect()
 }
 
+/// `items.iter().map(f).collect()`, in parallel when `parallel` is true and
+/// the `rayon` feature is on (writing straight into the result).
+pub(crate) fn map_slice<T: Sync, R: Send>(
+    items: &[T],
+    parallel: bool,
+    f: impl Fn(&T) -> R + Sync + Send,
+) -> Vec<R> {
+    #[cfg(feature = "rayon")]
+    if parallel {
+        use rayon::prelude::*;
+        return items.par_iter().with_min_len(1 << 14).map(f).collect();
+    }
+    let _ = parallel;
+    items.iter().map(f).collect()
+}
+
 /// How many chunks to split `len` items into: one when sequential, a few
 /// per thread otherwise (for load balance), never more than `len / min_chunk`.
 pub(crate) fn chunk_count(len: usize, parallel: bool, min_chunk: usize) -> usize {

@@ -317,13 +317,21 @@ fn grid_config(options: &RenderOptions) -> Option<GridConfig> {
     }
 }
 
-fn build_accel<P: Primitive + Send>(
+/// The accelerator the options ask for; a grid over small primitives
+/// (`copies`) keeps copies of them in cell order
+/// ([`Grid::build_with_copies`]).
+fn build_accel<P: Primitive + Clone + Send>(
     prims: Vec<P>,
     options: &RenderOptions,
+    copies: bool,
 ) -> (AccelOf<P>, Option<GridStats>) {
     match grid_config(options) {
         Some(config) => {
-            let grid = Grid::build(prims, &config);
+            let grid = if copies {
+                Grid::build_with_copies(prims, &config)
+            } else {
+                Grid::build(prims, &config)
+            };
             let stats = grid.stats().clone();
             (AccelOf::Grid(grid), Some(stats))
         }
@@ -377,11 +385,11 @@ impl Renderer {
         let prim_count = prims.len() + data.planes.len();
         let (accel, grid_stats) = pool.install(|| match prims {
             Prims::Spheres(v) => {
-                let (a, s) = build_accel(v, options);
+                let (a, s) = build_accel(v, options, true);
                 (Accel::Spheres(a), s)
             }
             Prims::Shapes(v) => {
-                let (a, s) = build_accel(v, options);
+                let (a, s) = build_accel(v, options, false);
                 (Accel::Shapes(a), s)
             }
         });

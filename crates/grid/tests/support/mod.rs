@@ -37,16 +37,24 @@ pub struct Checker<P: Primitive + Clone> {
 }
 
 impl<P: Primitive + Clone + std::fmt::Debug> Checker<P> {
-    /// Builds the reference and one grid per config (checking each grid's invariants).
-    pub fn new(prims: Vec<P>, configs: &[GridConfig]) -> Self {
+    /// Builds the reference and two grids per config, without and with
+    /// copies of the primitives in cell order (checking each grid's
+    /// invariants).
+    pub fn new(prims: Vec<P>, configs: &[GridConfig]) -> Self
+    where
+        P: Send,
+    {
         let grids: Vec<_> = configs
             .iter()
-            .map(|c| {
-                let g = Grid::build(prims.clone(), c);
+            .flat_map(|c| {
+                let plain = Grid::build(prims.clone(), c);
+                let copies = Grid::build_with_copies(prims.clone(), c);
+                [plain, copies]
+            })
+            .inspect(|g| {
                 if let Err(e) = g.check_invariants() {
-                    panic!("invariants broken for {c:?}: {e}");
+                    panic!("invariants broken for {:?}: {e}", g.config());
                 }
-                g
             })
             .collect();
         Self {
@@ -56,7 +64,10 @@ impl<P: Primitive + Clone + std::fmt::Debug> Checker<P> {
     }
 
     /// One grid per config of [`all_configs`].
-    pub fn all(prims: Vec<P>) -> Self {
+    pub fn all(prims: Vec<P>) -> Self
+    where
+        P: Send,
+    {
         Self::new(prims, &all_configs())
     }
 
@@ -71,16 +82,18 @@ impl<P: Primitive + Clone + std::fmt::Debug> Checker<P> {
                 let got = g.closest_hit(ray, t_min, t_max, &mut s);
                 assert!(
                     same(&got, &want),
-                    "closest_hit differs for {:?}\n ray {ray:?} [{t_min}, {t_max}]\n grid {got:?}\n want {want:?}\n dims {:?}",
+                    "closest_hit differs for {:?} (copies: {})\n ray {ray:?} [{t_min}, {t_max}]\n grid {got:?}\n want {want:?}\n dims {:?}",
                     g.config(),
+                    g.has_copies(),
                     g.stats().dims
                 );
                 let got_any = g.any_hit(ray, t_min, t_max, &mut s);
                 assert_eq!(
                     got_any,
                     want_any,
-                    "any_hit differs for {:?}\n ray {ray:?} [{t_min}, {t_max}]",
-                    g.config()
+                    "any_hit differs for {:?} (copies: {})\n ray {ray:?} [{t_min}, {t_max}]",
+                    g.config(),
+                    g.has_copies()
                 );
             }
         }
