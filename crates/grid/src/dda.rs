@@ -84,13 +84,44 @@ pub(crate) struct BlockMap {
 impl BlockMap {
     /// The map of a grid with `dims` cells, from its occupied cells.
     pub(crate) fn new(dims: [u32; 3], occupied: impl Iterator<Item = [u32; 3]>) -> Self {
+        Self::with(dims, |bd, bits| {
+            for c in occupied {
+                let b = Self::linear(bd, c.map(|i| i >> MACRO_BITS));
+                bits[b >> 6] |= 1 << (b & 63);
+            }
+        })
+    }
+
+    /// The map of a dense grid from its offsets (`offsets[c]..offsets[c + 1]`
+    /// are cell `c`'s references, row-major). The offsets never decrease, so
+    /// a run of cells is occupied exactly when the offsets at its two ends
+    /// differ: one comparison per row of a block, none per cell.
+    pub(crate) fn from_dense(dims: [u32; 3], offsets: &[u32]) -> Self {
+        let [nx, ny, nz] = dims.map(|n| n as usize);
+        let w = 1usize << MACRO_BITS;
+        Self::with(dims, |bd, bits| {
+            for k in 0..nz {
+                for j in 0..ny {
+                    let row = &offsets[(k * ny + j) * nx..][..=nx];
+                    let first =
+                        Self::linear(bd, [0, (j >> MACRO_BITS) as u32, (k >> MACRO_BITS) as u32]);
+                    for (bi, x0) in (0..nx).step_by(w).enumerate() {
+                        if row[x0] != row[(x0 + w).min(nx)] {
+                            let b = first + bi;
+                            bits[b >> 6] |= 1 << (b & 63);
+                        }
+                    }
+                }
+            }
+        })
+    }
+
+    /// The map of a grid with `dims` cells whose bits `mark(block dims, bits)` sets.
+    fn with(dims: [u32; 3], mark: impl FnOnce([u32; 3], &mut [u64])) -> Self {
         let bd = dims.map(|n| n.div_ceil(1 << MACRO_BITS));
         let count = bd.iter().map(|&n| n as usize).product::<usize>();
         let mut bits = vec![0u64; count.div_ceil(64)];
-        for c in occupied {
-            let b = Self::linear(bd, c.map(|i| i >> MACRO_BITS));
-            bits[b >> 6] |= 1 << (b & 63);
-        }
+        mark(bd, &mut bits);
         let set: usize = bits.iter().map(|w| w.count_ones() as usize).sum();
         // Skipping costs a little per block crossed; it pays once a fair share is empty.
         let useful = count > 1 && set * 10 < count * 9;

@@ -511,18 +511,7 @@ impl<P: Primitive> Grid<P> {
         let dims = self.geom.dims;
         match &self.cells {
             Cells::Empty => BlockMap::default(),
-            Cells::Dense { offsets } => {
-                let [nx, ny, _] = dims;
-                let occupied = offsets
-                    .windows(2)
-                    .enumerate()
-                    .filter(|(_, w)| w[0] != w[1])
-                    .map(|(c, _)| {
-                        let c = c as u32;
-                        [c % nx, (c / nx) % ny, c / (nx * ny)]
-                    });
-                BlockMap::new(dims, occupied)
-            }
+            Cells::Dense { offsets } => BlockMap::from_dense(dims, offsets),
             Cells::Hashed { table } => {
                 BlockMap::new(dims, table.occupied().map(|s| morton::decode3(s.key)))
             }
@@ -830,6 +819,22 @@ impl<P: Primitive> Grid<P> {
                 if table.capacity() < 2 * slots.len() {
                     return Err("hash table over half full".into());
                 }
+            }
+        }
+        // The block map and the occupancy bits say which cells hold references.
+        if !matches!(self.cells, Cells::Empty) {
+            let blocks = BlockMap::new(g.dims, runs.iter().map(|r| r.1));
+            if blocks.bits != self.blocks.bits {
+                return Err("block map disagrees with the occupied cells".into());
+            }
+            let bit = |key: u64| {
+                self.occ
+                    .get((key >> 6) as usize)
+                    .map_or(0, |w| w >> (key & 63) & 1)
+            };
+            let set: u64 = self.occ.iter().map(|w| u64::from(w.count_ones())).sum();
+            if set != runs.len() as u64 || runs.iter().any(|r| bit(r.0) == 0) {
+                return Err("occupancy bits disagree with the occupied cells".into());
             }
         }
         // Expected (cell, primitive) pairs against the stored ones.
