@@ -952,8 +952,13 @@ impl<P: Primitive + Clone + Send> Grid<P> {
         let start = Instant::now();
         let mut grid = Self::build(prims, config);
         let prims = &grid.prims;
-        let copies = crate::par::map_slice(&grid.refs, config.parallel_build, |&r| {
-            prims[r as usize].clone()
+        let refs = &grid.refs;
+        let copies = crate::par::map_range(refs.len(), config.parallel_build, |i| {
+            // The reads jump around: ask for a primitive some references ahead.
+            if let Some(&r) = refs.get(i + 32) {
+                crate::mem::prefetch(&prims[r as usize]);
+            }
+            prims[refs[i] as usize].clone()
         });
         grid.copies = copies.into_boxed_slice();
         grid.stats.bytes += std::mem::size_of_val(&*grid.copies);

@@ -17,20 +17,29 @@ pub(crate) fn map_indices<R: Send>(
     (0..n).map(f).collect()
 }
 
-/// `items.iter().map(f).collect()`, in parallel when `parallel` is true and
-/// the `rayon` feature is on (writing straight into the result).
-pub(crate) fn map_slice<T: Sync, R: Send>(
-    items: &[T],
+/// `(0..n).map(f).collect()`, in parallel when `parallel` is true and the
+/// `rayon` feature is on (writing straight into the result, on huge pages
+/// where possible).
+pub(crate) fn map_range<R: Send>(
+    n: usize,
     parallel: bool,
-    f: impl Fn(&T) -> R + Sync + Send,
+    f: impl Fn(usize) -> R + Sync + Send,
 ) -> Vec<R> {
+    let mut out = Vec::with_capacity(n);
+    crate::mem::advise_huge(&mut out);
     #[cfg(feature = "rayon")]
     if parallel {
         use rayon::prelude::*;
-        return items.par_iter().with_min_len(1 << 14).map(f).collect();
+        (0..n)
+            .into_par_iter()
+            .with_min_len(1 << 14)
+            .map(f)
+            .collect_into_vec(&mut out);
+        return out;
     }
     let _ = parallel;
-    items.iter().map(f).collect()
+    out.extend((0..n).map(f));
+    out
 }
 
 /// How many chunks to split `len` items into: one when sequential, a few
