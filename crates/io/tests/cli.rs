@@ -89,7 +89,7 @@ fn render_subcommand_exr_and_stats() {
 fn render_a_fixture_scene_and_a_model_with_each_accelerator() {
     let dir = tempfile::tempdir().unwrap();
     let scene = fixture("scenes/obj_cube_transform.ron");
-    for accel in ["grid", "dense-grid", "exhaustive"] {
+    for accel in ["grid", "hashed-grid", "dense-grid", "exhaustive"] {
         let out = format!("{accel}.png");
         let o = gridrt(
             &[
@@ -109,10 +109,12 @@ fn render_a_fixture_scene_and_a_model_with_each_accelerator() {
         assert!(o.status.success(), "{accel}: {}", stderr(&o));
         assert_eq!(png_size(&dir.path().join(&out)), (40, 30));
     }
-    // Grid and exhaustive render the same image.
-    let a = std::fs::read(dir.path().join("grid.png")).unwrap();
+    // Both grids and exhaustive render the same image.
     let b = std::fs::read(dir.path().join("exhaustive.png")).unwrap();
-    assert_eq!(a, b);
+    for grid in ["grid", "hashed-grid"] {
+        let a = std::fs::read(dir.path().join(format!("{grid}.png"))).unwrap();
+        assert!(a == b, "{grid} differs from exhaustive");
+    }
     let model = fixture("meshes/generated/hierarchy.glb");
     let o = gridrt(
         &[
@@ -234,7 +236,7 @@ fn rays_on_a_tiny_mesh_give_the_known_answers() {
     let rays = fixture("meshes/generated/tri_rays.csv");
     let expected =
         std::fs::read_to_string(fixture("meshes/generated/tri_rays.expected.csv")).unwrap();
-    for accel in ["grid", "dense-grid", "exhaustive"] {
+    for accel in ["grid", "hashed-grid", "dense-grid", "exhaustive"] {
         let o = gridrt(
             &[
                 "rays",

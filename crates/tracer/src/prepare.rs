@@ -354,6 +354,19 @@ fn check_set(scene: &Scene, set: &SphereSet) -> Result<(), SceneError> {
 }
 
 /// The albedo of a material, as a per-primitive colour table records it.
+/// The material with its colour left out, for materials whose colour a
+/// per-primitive colour may replace (`None` for the others).
+fn uncolored(m: &Material) -> Option<Material> {
+    let mut m = m.clone();
+    match &mut m {
+        Material::Matte { color, .. }
+        | Material::Phong { color, .. }
+        | Material::Reflective { color, .. } => *color = Rgb::ZERO,
+        Material::Dielectric { .. } | Material::Emissive { .. } => return None,
+    }
+    Some(m)
+}
+
 fn albedo(m: &Material) -> Rgb {
     match *m {
         Material::Matte { color, .. }
@@ -422,18 +435,35 @@ fn convert(
 ) -> Prims {
     let set_material = set.as_ref().map(|s| s.material);
     let set_len = set.as_ref().map_or(0, |s| s.spheres.len());
-    let set_colors = set.as_ref().is_some_and(|s| !s.colors.is_empty());
+    let mut set_colors = set.as_ref().is_some_and(|s| !s.colors.is_empty());
     // One material for every primitive: no per-primitive table.
-    let mut materials = scene
-        .objects
-        .iter()
-        .filter(|o| !matches!(o.geometry, Geometry::Plane { .. }))
-        .map(|o| o.material)
-        .chain(set_material.filter(|_| set_len > 0));
-    let uniform = match materials.next() {
-        None => Some(0),
-        Some(first) => materials.all(|m| m == first).then_some(first),
+    let materials = || {
+        scene
+            .objects
+            .iter()
+            .filter(|o| !matches!(o.geometry, Geometry::Plane { .. }))
+            .map(|o| o.material)
+            .chain(set_material.filter(|_| set_len > 0))
     };
+    let first = materials().next();
+    let mut uniform = match first {
+        None => Some(0),
+        Some(first) => materials().all(|m| m == first).then_some(first),
+    };
+    // Materials that differ only in their colour (a million matte spheres
+    // in random colours, as `RandomSpheres` makes them) become one material
+    // and a colour per primitive, as a `SphereSet`'s: shading then reads
+    // one small colour per hit instead of a material id and a material.
+    let recolor = uniform.is_none() && {
+        let key = |m: MaterialId| uncolored(&scene.materials[m as usize]);
+        first
+            .and_then(key)
+            .is_some_and(|k| materials().all(|m| key(m).as_ref() == Some(&k)))
+    };
+    if recolor {
+        uniform = first;
+        set_colors = true;
+    }
     let mut per_prim = Vec::new();
     if uniform.is_none() {
         per_prim.reserve(count);
@@ -464,7 +494,7 @@ fn convert(
         }
     }
     let prims = if all_spheres {
-        let mut spheres = Vec::new();
+        let mut spheres = Vec::with_capacity(count - set_len);
         for o in &scene.objects {
             if let Geometry::Sphere { center, radius } = o.geometry {
                 spheres.push(Sphere::new(center, radius));
@@ -483,6 +513,9 @@ fn convert(
                 albedos = set.colors;
             } else {
                 albedos.extend_from_slice(&set.colors);
+            }
+            if set_colors && albedos.len() < count {
+                albedos.resize(count, albedo(&scene.materials[set.material as usize]));
             }
             if uniform.is_none() {
                 per_prim.resize(count, set.material);
@@ -532,6 +565,12 @@ fn convert(
             let n = set.spheres.len();
             shapes.extend(set.spheres.into_iter().map(Shape::from));
             albedos.extend_from_slice(&set.colors);
+            if set_colors && albedos.len() < shapes.len() {
+                albedos.resize(
+                    shapes.len(),
+                    albedo(&scene.materials[set.material as usize]),
+                );
+            }
             if uniform.is_none() {
                 per_prim.resize(per_prim.len() + n, set.material);
             }
@@ -548,4 +587,52 @@ fn convert(
     };
     data.prim_albedo = albedos;
     prims
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrator::PrimMaterials;
+    use crate::suffern;
+
+    /// Each object's albedo, as its own material gives it.
+    fn own_albedos(scene: &Scene) -> Vec<Rgb> {
+        let m = |o: &crate::Object| albedo(&scene.materials[o.material as usize]);
+        scene.objects.iter().map(m).collect()
+    }
+
+    #[test]
+    fn materials_differing_only_in_colour_become_one_and_colours() {
+        let scene = suffern::scene(50);
+        let first = scene.objects[0].material;
+        assert!(scene.objects.iter().any(|o| o.material != first));
+        let p = prepare(&scene, None).unwrap();
+        assert!(matches!(p.data.prim_material, PrimMaterials::Uniform(m) if m == first));
+        assert_eq!(p.data.prim_albedo, own_albedos(&scene));
+
+        // A set without colours after them takes its material's colour.
+        let set = SphereSet {
+            spheres: suffern::sphere_set(7, 3).spheres,
+            colors: Vec::new(),
+            material: first + 1,
+        };
+        let p = prepare(&scene, Some(set)).unwrap();
+        let mut want = own_albedos(&scene);
+        want.resize(57, albedo(&scene.materials[first as usize + 1]));
+        assert_eq!(p.data.prim_albedo, want);
+        assert!(matches!(p.data.prim_material, PrimMaterials::Uniform(m) if m == first));
+    }
+
+    #[test]
+    fn materials_differing_otherwise_keep_their_table() {
+        let mut scene = suffern::scene(50);
+        let last = scene.objects[49].material as usize;
+        if let Material::Matte { ka, .. } = &mut scene.materials[last] {
+            *ka = 0.5;
+        }
+        let p = prepare(&scene, None).unwrap();
+        let ids: Vec<u32> = scene.objects.iter().map(|o| o.material).collect();
+        assert!(matches!(&p.data.prim_material, PrimMaterials::PerPrim(v) if *v == ids));
+        assert!(p.data.prim_albedo.is_empty());
+    }
 }
