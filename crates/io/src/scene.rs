@@ -560,7 +560,7 @@ impl<'a> Builder<'a> {
                 },
             };
             self.objects.push(Object {
-                geometry: Geometry::Mesh(mm.oriented()),
+                geometry: Geometry::Mesh(Box::new(mm.oriented())),
                 material: id,
             });
         }
@@ -738,7 +738,7 @@ pub fn scene_from_model(model: Model) -> LoadedScene {
         .meshes
         .iter()
         .map(|mm| Object {
-            geometry: Geometry::Mesh(mm.oriented()),
+            geometry: Geometry::Mesh(Box::new(mm.oriented())),
             material: mm.material.map_or_else(
                 || {
                     need_default = true;

@@ -125,7 +125,8 @@ pub enum Geometry {
         normal: Vec3,
     },
     /// A triangle mesh in world space; each triangle goes into the grid.
-    Mesh(Mesh),
+    /// Boxed, so that an `Object` stays small in scenes of a million spheres.
+    Mesh(Box<Mesh>),
 }
 
 /// A triangle mesh with shared vertex arrays.
@@ -240,4 +241,21 @@ pub enum Light {
         /// Whether it casts shadows.
         shadows: bool,
     },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_object_stays_small() {
+        // Six coordinates (a box or a plane), the tag and the material: a
+        // million spheres must not pay for a mesh's vectors each.
+        let limit = 6 * std::mem::size_of::<Real>() + 16;
+        assert!(
+            std::mem::size_of::<Object>() <= limit,
+            "{}",
+            std::mem::size_of::<Object>()
+        );
+    }
 }

@@ -122,12 +122,12 @@ fn objects() {
 fn meshes() {
     let tri = |positions: Vec<Vec3>, triangles: Vec<[u32; 3]>| {
         let mut s = valid();
-        s.objects[0].geometry = Geometry::Mesh(Mesh {
+        s.objects[0].geometry = Geometry::Mesh(Box::new(Mesh {
             name: "bad.obj".into(),
             positions,
             triangles,
             ..Mesh::default()
-        });
+        }));
         s
     };
     let e = err(&tri(vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![[0, 1, 3]]));
