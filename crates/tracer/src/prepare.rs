@@ -353,7 +353,6 @@ fn check_set(scene: &Scene, set: &SphereSet) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// The albedo of a material, as a per-primitive colour table records it.
 /// The material with its colour left out, for materials whose colour a
 /// per-primitive colour may replace (`None` for the others).
 fn uncolored(m: &Material) -> Option<Material> {
@@ -367,6 +366,7 @@ fn uncolored(m: &Material) -> Option<Material> {
     Some(m)
 }
 
+/// The albedo of a material, as a per-primitive colour table records it.
 fn albedo(m: &Material) -> Rgb {
     match *m {
         Material::Matte { color, .. }
@@ -514,9 +514,6 @@ fn convert(
             } else {
                 albedos.extend_from_slice(&set.colors);
             }
-            if set_colors && albedos.len() < count {
-                albedos.resize(count, albedo(&scene.materials[set.material as usize]));
-            }
             if uniform.is_none() {
                 per_prim.resize(count, set.material);
             }
@@ -565,12 +562,6 @@ fn convert(
             let n = set.spheres.len();
             shapes.extend(set.spheres.into_iter().map(Shape::from));
             albedos.extend_from_slice(&set.colors);
-            if set_colors && albedos.len() < shapes.len() {
-                albedos.resize(
-                    shapes.len(),
-                    albedo(&scene.materials[set.material as usize]),
-                );
-            }
             if uniform.is_none() {
                 per_prim.resize(per_prim.len() + n, set.material);
             }
@@ -581,6 +572,11 @@ fn convert(
         }
         Prims::Shapes(shapes)
     };
+    // A set without colours of its own after recoloured objects: its
+    // material's colour.
+    if let Some(m) = set_material.filter(|_| set_colors && albedos.len() < prims.len()) {
+        albedos.resize(prims.len(), albedo(&scene.materials[m as usize]));
+    }
     data.prim_material = match uniform {
         Some(m) => PrimMaterials::Uniform(m),
         None => PrimMaterials::PerPrim(per_prim),
