@@ -6,7 +6,8 @@
 //! environment variable `SUFFERN` selects parts, comma-separated:
 //! `spheres` (N = 1e3…1e6), `mesh` (1,024,000 triangles), `bunny`,
 //! `copies` (spheres copied into cell order), `sorted`, `sweep` (m and
-//! storage sweep), `mailbox`, `exhaustive`; `SUFFERN_N`
+//! storage sweep), `mailbox`, `meshnest` (nested grids on the mesh),
+//! `exhaustive`; `SUFFERN_N`
 //! overrides the list of N. Timings are best of several runs, in one thread
 //! (the build also with rayon).
 
@@ -401,6 +402,25 @@ fn main() {
                     };
                     print_row("mesh", &c, &measure(&tris, &rays, &c, 5));
                 }
+            }
+        }
+    }
+    if has("meshnest") {
+        // Nested grids in crowded cells against the flat grid, over m.
+        let tris = scenes::uv_sphere_mesh(&scenes::suffern_spheres(1000), 32, 17);
+        for m in [0.5, 0.75, 1.25] {
+            for nest_min_refs in [0, 8, 16] {
+                let c = GridConfig {
+                    m,
+                    nest_min_refs,
+                    ..base
+                };
+                let name = if nest_min_refs == 0 {
+                    "mesh".to_string()
+                } else {
+                    format!("nest{nest_min_refs}")
+                };
+                print_row(&name, &c, &measure(&tris, &rays, &c, 5));
             }
         }
     }

@@ -102,6 +102,16 @@ impl Geom {
         }
     }
 
+    /// The same geometry with the insertion pad widened to at least `pad`
+    /// (a nested grid takes its outer grid's, which suits the magnitude of
+    /// the whole scene rather than of one cell).
+    pub(crate) fn with_pad(mut self, pad: Real) -> Self {
+        self.pad = self.pad.max(pad);
+        let widen = Vec3::splat(self.pad);
+        self.entry = Aabb::new(self.bounds.min - widen, self.bounds.max + widen);
+        self
+    }
+
     /// True when the grid has no cells.
     #[inline]
     pub(crate) fn is_empty(&self) -> bool {

@@ -4,6 +4,7 @@ use crate::build::{self, Cells};
 use crate::counters::{Counters, NoCounters};
 use crate::dda::{BlockMap, CellFn, CellIter, CellLookup, CellVisit, Dda};
 use crate::geom::Geom;
+use crate::nested::{Nested, Sub};
 use crate::table::CellTable;
 use crate::{morton, Accelerator, CellStorage, GridConfig, GridStats, Hit, Primitive};
 use gridrt_bbox::{Aabb, Ray, Real};
@@ -46,6 +47,8 @@ pub struct Grid<P> {
     blocks: BlockMap,
     /// One bit per cell key: set when the cell holds references.
     occ: Box<[u64]>,
+    /// The nested grids of crowded cells.
+    nested: Nested,
     stats: GridStats,
 }
 
@@ -200,9 +203,14 @@ impl<'q, P> CellPrims<'q, P> {
         if self.copies.is_empty() {
             return &[];
         }
-        let start =
-            (cell.as_ptr() as usize - self.refs.as_ptr() as usize) / std::mem::size_of::<u32>();
+        let start = self.start(cell);
         &self.copies[start..start + cell.len()]
+    }
+
+    /// Where `cell`, a run of the grid's references, starts among them.
+    #[inline(always)]
+    fn start(self, cell: &[u32]) -> usize {
+        (cell.as_ptr() as usize - self.refs.as_ptr() as usize) / std::mem::size_of::<u32>()
     }
 }
 
@@ -210,6 +218,7 @@ impl<'q, P> CellPrims<'q, P> {
 struct Closest<'q, P, C, const MB: bool> {
     prims: &'q [P],
     cells: CellPrims<'q, P>,
+    nested: &'q Nested,
     ray: &'q Ray,
     t_min: Real,
     /// `t_max`, then the best hit's t.
@@ -243,6 +252,41 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
             }
         }
     }
+
+    /// Walks the nested grid of a crowded cell instead of testing the
+    /// cell's references one by one: the same query, one level down.
+    #[inline(never)]
+    fn walk_sub(&mut self, sub: &Sub) {
+        let Some(dda) = Dda::new(&sub.geom, self.ray, self.t_min, self.t_lim) else {
+            return;
+        };
+        let [nx, ny, _] = sub.geom.dims.map(u64::from);
+        let lookup = DenseLookup {
+            occ: &sub.occ,
+            offsets: &sub.offsets,
+            refs: &sub.refs,
+            nx,
+            nxy: nx * ny,
+        };
+        let none = Nested::default();
+        let mut q = Closest::<P, C, MB> {
+            prims: self.prims,
+            cells: CellPrims {
+                refs: &sub.refs,
+                copies: &[],
+            },
+            nested: &none,
+            ray: self.ray,
+            t_min: self.t_min,
+            t_lim: self.t_lim,
+            best: self.best,
+            stamps: &mut *self.stamps,
+            stamp: self.stamp,
+            counters: &mut *self.counters,
+        };
+        let _ = dda.walk(&lookup, &mut q);
+        (self.t_lim, self.best) = (q.t_lim, q.best);
+    }
 }
 
 impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for Closest<'_, P, C, MB> {
@@ -254,6 +298,28 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for Closest<'_, P
         if refs.is_empty() {
             return ControlFlow::Continue(());
         }
+        if let Some(sub) = self.nested.find(refs.len(), self.cells.start(refs) as u32) {
+            self.walk_sub(sub);
+        } else {
+            self.test_refs(refs);
+        }
+        // Stop only when the best hit is certainly inside this cell: a hit on
+        // (or within rounding of) the exit plane may tie with a lower-index
+        // primitive of the next cell. A hit found here that lies in a later
+        // cell stays in `best` and is confirmed there. (Empty cells cannot
+        // change the answer, so the test is made after occupied ones only.)
+        let t_exit = visit.t_exit;
+        if self.best.is_some() && self.t_lim < t_exit - t_exit.abs() * EXIT_MARGIN {
+            return ControlFlow::Break(());
+        }
+        ControlFlow::Continue(())
+    }
+}
+
+impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
+    /// Tests the references of one cell.
+    #[inline(always)]
+    fn test_refs(&mut self, refs: &[u32]) {
         let copies = self.cells.of(refs);
         for (k, &p) in refs.iter().enumerate() {
             if MB {
@@ -271,16 +337,6 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for Closest<'_, P
                 None => self.test(p),
             }
         }
-        // Stop only when the best hit is certainly inside this cell: a hit on
-        // (or within rounding of) the exit plane may tie with a lower-index
-        // primitive of the next cell. A hit found here that lies in a later
-        // cell stays in `best` and is confirmed there. (Empty cells cannot
-        // change the answer, so the test is made after occupied ones only.)
-        let t_exit = visit.t_exit;
-        if self.best.is_some() && self.t_lim < t_exit - t_exit.abs() * EXIT_MARGIN {
-            return ControlFlow::Break(());
-        }
-        ControlFlow::Continue(())
     }
 }
 
@@ -393,10 +449,15 @@ impl<P: Primitive> Grid<P> {
             spread: b.spread,
             blocks: BlockMap::default(),
             occ: Box::new([]),
+            nested: Nested::default(),
             stats: GridStats::default(),
         };
         grid.blocks = grid.block_map();
         grid.occ = grid.occupancy_bits();
+        let min = config.nest_min_refs as usize;
+        let crowded = if min == 0 { Vec::new() } else { grid.runs(min) };
+        let nested = Nested::build(&grid.prims, &grid.geom, crowded, config);
+        grid.nested = nested;
         let cells = grid.geom.cell_count();
         let table_bytes = match &grid.cells {
             Cells::Empty => 0,
@@ -431,9 +492,11 @@ impl<P: Primitive> Grid<P> {
                 + std::mem::size_of_val(&*grid.refs)
                 + planes
                 + spread
-                + std::mem::size_of_val(&*grid.unbounded),
+                + std::mem::size_of_val(&*grid.unbounded)
+                + grid.nested.bytes(),
             table_bytes,
             unbounded_prims: grid.unbounded.len() as u64,
+            nested_cells: grid.nested.subs.len() as u64,
             build_time,
         };
         grid
@@ -515,6 +578,108 @@ impl<P: Primitive> Grid<P> {
             Cells::Hashed { table } => {
                 BlockMap::new(dims, table.occupied().map(|s| morton::decode3(s.key)))
             }
+        }
+    }
+
+    /// The nested grids: one for each cell of at least `nest_min_refs`
+    /// references and no other, covering the cell's box, each holding
+    /// exactly the cell's references in every sub-cell their padded box
+    /// overlaps.
+    fn check_nested(&self) -> Result<(), String> {
+        let min = self.config.nest_min_refs as usize;
+        let crowded = if min == 0 { Vec::new() } else { self.runs(min) };
+        if crowded.len() != self.nested.subs.len() {
+            return Err(format!(
+                "{} nested grids for {} crowded cells",
+                self.nested.subs.len(),
+                crowded.len()
+            ));
+        }
+        for (idx, start, refs) in crowded {
+            let sub = self
+                .nested
+                .find(refs.len(), start)
+                .ok_or_else(|| format!("cell {idx:?}: no nested grid"))?;
+            let g = &sub.geom;
+            if g.bounds != crate::nested::cover(&self.prims, &self.geom, idx, refs)
+                || g.pad < self.geom.pad
+            {
+                return Err(format!("cell {idx:?}: nested grid not over the cell"));
+            }
+            let cells = g.cell_count() as usize;
+            let o = &sub.offsets;
+            if o.len() != cells + 1
+                || o[0] != 0
+                || o[cells] as usize != sub.refs.len()
+                || o.windows(2).any(|w| w[0] > w[1])
+            {
+                return Err(format!("cell {idx:?}: nested offsets malformed"));
+            }
+            let [nx, ny, _] = g.dims.map(|d| d as usize);
+            let mut want = Vec::new();
+            for &p in refs {
+                let (lo, hi) = g.cell_range(&self.prims[p as usize].bounds());
+                for k in lo[2] as usize..=hi[2] as usize {
+                    for j in lo[1] as usize..=hi[1] as usize {
+                        for i in lo[0] as usize..=hi[0] as usize {
+                            want.push((i + nx * (j + ny * k), p));
+                        }
+                    }
+                }
+            }
+            let mut got = Vec::new();
+            for c in 0..cells {
+                let run = &sub.refs[o[c] as usize..o[c + 1] as usize];
+                got.extend(run.iter().map(|&p| (c, p)));
+                let occupied = sub.occ[c >> 6] >> (c & 63) & 1 != 0;
+                if occupied == run.is_empty() {
+                    return Err(format!("cell {idx:?}: nested occupancy bit {c} wrong"));
+                }
+            }
+            want.sort_unstable();
+            got.sort_unstable();
+            if want != got {
+                return Err(format!("cell {idx:?}: nested references differ"));
+            }
+        }
+        Ok(())
+    }
+
+    /// The occupied cells with at least `min` references: each cell's index,
+    /// where its run starts among the references, and the run.
+    fn runs(&self, min: usize) -> Vec<([u32; 3], u32, &[u32])> {
+        let run = |s: u32, e: u32| &self.refs[s as usize..e as usize];
+        match &self.cells {
+            Cells::Empty => Vec::new(),
+            Cells::Dense { offsets } => {
+                let [nx, ny, _] = self.geom.dims;
+                let keep = |(_, w): &(usize, &[u32])| (w[1] - w[0]) as usize >= min;
+                let cell = |(c, w): (usize, &[u32])| {
+                    let c = c as u32;
+                    (
+                        [c % nx, (c / nx) % ny, c / (nx * ny)],
+                        w[0],
+                        run(w[0], w[1]),
+                    )
+                };
+                offsets
+                    .windows(2)
+                    .enumerate()
+                    .filter(keep)
+                    .map(cell)
+                    .collect()
+            }
+            Cells::Hashed { table } => table
+                .occupied()
+                .filter(|s| s.len as usize >= min)
+                .map(|s| {
+                    (
+                        morton::decode3(s.key),
+                        s.start,
+                        run(s.start, s.start + s.len),
+                    )
+                })
+                .collect(),
         }
     }
 
@@ -632,6 +797,7 @@ impl<P: Primitive> Grid<P> {
         let mut q = Closest::<P, C, MB> {
             prims: &self.prims,
             cells: self.cell_prims(),
+            nested: &self.nested,
             ray,
             t_min,
             t_lim: t_max,
@@ -837,6 +1003,7 @@ impl<P: Primitive> Grid<P> {
                 return Err("occupancy bits disagree with the occupied cells".into());
             }
         }
+        self.check_nested()?;
         // Expected (cell, primitive) pairs against the stored ones.
         let mut stored: Vec<([u32; 3], u32)> = Vec::with_capacity(self.refs.len());
         for &(_, idx, s, len) in &runs {

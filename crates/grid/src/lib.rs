@@ -106,6 +106,7 @@ mod geom;
 mod grid;
 mod mem;
 mod morton;
+mod nested;
 mod order;
 mod par;
 mod radix;

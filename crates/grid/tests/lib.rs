@@ -10,4 +10,5 @@ mod support;
 mod build;
 mod equivalence;
 mod hard_cases;
+mod nested;
 mod traversal;

@@ -103,6 +103,8 @@ fn render_a_fixture_scene_and_a_model_with_each_accelerator() {
                 accel,
                 "--grid-m",
                 "3",
+                "--grid-nest",
+                "2",
             ],
             dir.path(),
         );

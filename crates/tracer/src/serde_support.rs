@@ -21,6 +21,7 @@ struct GridStatsSer {
     bytes: usize,
     table_bytes: usize,
     unbounded_prims: u64,
+    nested_cells: u64,
     build_time: f64,
 }
 
@@ -37,6 +38,7 @@ pub(crate) fn grid_stats<S: Serializer>(g: &Option<GridStats>, s: S) -> Result<S
             bytes: g.bytes,
             table_bytes: g.table_bytes,
             unbounded_prims: g.unbounded_prims,
+            nested_cells: g.nested_cells,
             build_time: g.build_time.as_secs_f64(),
         })
         .serialize(s)

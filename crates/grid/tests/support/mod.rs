@@ -10,7 +10,8 @@ use gridrt_grid::{
     Accelerator, CellStorage, Exhaustive, Grid, GridConfig, Hit, Primitive, Ray, Real,
 };
 
-/// Every combination of storage, mailbox and insertion mode.
+/// Every combination of storage, mailbox and insertion mode; half of them
+/// nest a grid in every cell of two references or more.
 pub fn all_configs() -> Vec<GridConfig> {
     let mut v = Vec::new();
     for storage in [CellStorage::Hashed, CellStorage::Dense] {
@@ -20,6 +21,7 @@ pub fn all_configs() -> Vec<GridConfig> {
                     storage,
                     mailbox,
                     exact_insertion,
+                    nest_min_refs: if mailbox == exact_insertion { 2 } else { 0 },
                     ..GridConfig::default()
                 });
             }

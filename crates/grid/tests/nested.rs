@@ -1,0 +1,99 @@
+//! Nested grids in crowded cells: a detailed object in a large empty scene
+//! (the "teapot in a stadium") gets grids inside its crowded cells, and the
+//! answers stay exactly the exhaustive ones.
+
+use crate::support::prims::{Sphere, Triangle};
+use crate::support::scenes::{uv_sphere_mesh, Lcg};
+use crate::support::Checker;
+use gridrt_grid::{Accelerator, CellStorage, Grid, GridConfig, QueryCounters, Ray, Real, Vec3};
+
+/// Two finely tessellated balls near the origin and two small triangles at
+/// the far corners of a box 200 units wide.
+fn stadium() -> Vec<Triangle> {
+    let balls = [
+        Sphere::new(Vec3::new(0.0, 0.0, 0.0), 0.5),
+        Sphere::new(Vec3::new(0.6, 0.2, -0.3), 0.25),
+    ];
+    let mut tris = uv_sphere_mesh(&balls, 24, 13);
+    for c in [-100.0 as Real, 100.0] {
+        let p = Vec3::splat(c);
+        tris.push(Triangle::new(p, p + Vec3::X, p + Vec3::Y));
+    }
+    tris
+}
+
+/// Rays from all around aimed at points near the balls.
+fn rays(n: usize) -> Vec<Ray> {
+    let mut rng = Lcg::new(7);
+    (0..n)
+        .map(|_| {
+            let from = Vec3::new(
+                rng.range(-50.0, 50.0),
+                rng.range(-50.0, 50.0),
+                rng.range(-50.0, 50.0),
+            );
+            let to = Vec3::new(
+                rng.range(-0.6, 0.9),
+                rng.range(-0.6, 0.6),
+                rng.range(-0.6, 0.6),
+            );
+            Ray::new(from, to - from)
+        })
+        .collect()
+}
+
+#[test]
+fn crowded_cells_get_nested_grids_and_stay_exact() {
+    let tris = stadium();
+    let configs: Vec<GridConfig> = [CellStorage::Dense, CellStorage::Hashed]
+        .into_iter()
+        .flat_map(|storage| {
+            [false, true].map(|mailbox| GridConfig {
+                storage,
+                mailbox,
+                nest_min_refs: 16,
+                ..GridConfig::default()
+            })
+        })
+        .collect();
+    let checker = Checker::new(tris.clone(), &configs);
+    for g in &checker.grids {
+        assert!(
+            g.stats().nested_cells > 0,
+            "{:?}: no nested grid",
+            g.config()
+        );
+    }
+    let mut hits = 0;
+    for ray in rays(3000) {
+        hits += usize::from(checker.check(&ray, 0.0, Real::INFINITY).is_some());
+        checker.check(&ray, 1.0, 60.0);
+    }
+    assert!(hits > 1000, "only {hits} rays hit the balls");
+}
+
+#[test]
+fn nesting_cuts_the_tests_per_ray() {
+    let tris = stadium();
+    let flat = Grid::build(tris.clone(), &GridConfig::default());
+    let nested = Grid::build(
+        tris,
+        &GridConfig {
+            nest_min_refs: 16,
+            ..GridConfig::default()
+        },
+    );
+    let count = |g: &Grid<Triangle>| {
+        let mut c = QueryCounters::default();
+        let mut s = g.scratch();
+        for ray in rays(500) {
+            g.closest_hit_counted(&ray, 0.0, Real::INFINITY, &mut s, &mut c);
+        }
+        c.tests
+    };
+    let (f, n) = (count(&flat), count(&nested));
+    assert!(
+        n * 2 < f,
+        "nested grids test {n} primitives, the flat grid {f}"
+    );
+}
