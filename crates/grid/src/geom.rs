@@ -190,6 +190,20 @@ impl Geom {
         }
     }
 
+    /// Calls `f` with the row-major index of every cell of the inclusive
+    /// range `[lo, hi]` (as [`Geom::cell_range`] gives it).
+    #[inline]
+    pub(crate) fn for_each_cell(&self, (lo, hi): ([u32; 3], [u32; 3]), mut f: impl FnMut(usize)) {
+        let [nx, ny, _] = self.dims.map(|d| d as usize);
+        for k in lo[2] as usize..=hi[2] as usize {
+            for j in lo[1] as usize..=hi[1] as usize {
+                for i in lo[0] as usize..=hi[0] as usize {
+                    f(i + nx * (j + ny * k));
+                }
+            }
+        }
+    }
+
     /// The box of cell `idx`, widened by the pad: the region a primitive
     /// must touch to be inserted into the cell under exact insertion.
     #[inline]

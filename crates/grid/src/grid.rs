@@ -454,8 +454,7 @@ impl<P: Primitive> Grid<P> {
         };
         grid.blocks = grid.block_map();
         grid.occ = grid.occupancy_bits();
-        let min = config.nest_min_refs as usize;
-        let crowded = if min == 0 { Vec::new() } else { grid.runs(min) };
+        let crowded = grid.runs(config.nest_min_refs as usize);
         let nested = Nested::build(&grid.prims, &grid.geom, crowded, config);
         grid.nested = nested;
         let cells = grid.geom.cell_count();
@@ -582,12 +581,11 @@ impl<P: Primitive> Grid<P> {
     }
 
     /// The nested grids: one for each cell of at least `nest_min_refs`
-    /// references and no other, covering the cell's box, each holding
-    /// exactly the cell's references in every sub-cell their padded box
-    /// overlaps.
+    /// references and no other, each over what its references cover of the
+    /// cell and holding exactly the cell's references in every nested cell
+    /// their padded box overlaps.
     fn check_nested(&self) -> Result<(), String> {
-        let min = self.config.nest_min_refs as usize;
-        let crowded = if min == 0 { Vec::new() } else { self.runs(min) };
+        let crowded = self.runs(self.config.nest_min_refs as usize);
         if crowded.len() != self.nested.subs.len() {
             return Err(format!(
                 "{} nested grids for {} crowded cells",
@@ -615,17 +613,10 @@ impl<P: Primitive> Grid<P> {
             {
                 return Err(format!("cell {idx:?}: nested offsets malformed"));
             }
-            let [nx, ny, _] = g.dims.map(|d| d as usize);
             let mut want = Vec::new();
             for &p in refs {
-                let (lo, hi) = g.cell_range(&self.prims[p as usize].bounds());
-                for k in lo[2] as usize..=hi[2] as usize {
-                    for j in lo[1] as usize..=hi[1] as usize {
-                        for i in lo[0] as usize..=hi[0] as usize {
-                            want.push((i + nx * (j + ny * k), p));
-                        }
-                    }
-                }
+                let range = g.cell_range(&self.prims[p as usize].bounds());
+                g.for_each_cell(range, |c| want.push((c, p)));
             }
             let mut got = Vec::new();
             for c in 0..cells {
@@ -645,11 +636,12 @@ impl<P: Primitive> Grid<P> {
         Ok(())
     }
 
-    /// The occupied cells with at least `min` references: each cell's index,
-    /// where its run starts among the references, and the run.
+    /// The occupied cells with at least `min` references (none for 0): each
+    /// cell's index, where its run starts among the references, and the run.
     fn runs(&self, min: usize) -> Vec<([u32; 3], u32, &[u32])> {
         let run = |s: u32, e: u32| &self.refs[s as usize..e as usize];
         match &self.cells {
+            _ if min == 0 => Vec::new(),
             Cells::Empty => Vec::new(),
             Cells::Dense { offsets } => {
                 let [nx, ny, _] = self.geom.dims;

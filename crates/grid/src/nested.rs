@@ -116,21 +116,14 @@ impl Sub {
         let ext = [geom::wide(e.x), geom::wide(e.y), geom::wide(e.z)];
         let dims = geom::resolution(ext, refs.len(), m, MAX_SUB_CELLS);
         let geom = Geom::new(cell, dims).with_pad(outer.pad);
-        let [nx, ny, _] = dims.map(|d| d as usize);
         let count = geom.cell_count() as usize;
         let ranges: Vec<([u32; 3], [u32; 3])> = refs
             .iter()
             .map(|&p| geom.cell_range(&prims[p as usize].bounds()))
             .collect();
         let each = |f: &mut dyn FnMut(usize, u32)| {
-            for (&p, (lo, hi)) in refs.iter().zip(&ranges) {
-                for k in lo[2] as usize..=hi[2] as usize {
-                    for j in lo[1] as usize..=hi[1] as usize {
-                        for i in lo[0] as usize..=hi[0] as usize {
-                            f(i + nx * (j + ny * k), p);
-                        }
-                    }
-                }
+            for (&p, &range) in refs.iter().zip(&ranges) {
+                geom.for_each_cell(range, |c| f(c, p));
             }
         };
         // Count, prefix-sum into starts, fill (references keep their order).
