@@ -91,12 +91,36 @@ fn bit(bits: &[u64], key: u64) -> bool {
     unsafe { bits.get_unchecked(w) >> (key & 63) & 1 != 0 }
 }
 
+/// One bit per cell of a dense table (`offsets[c]..offsets[c + 1]` are
+/// cell `c`'s references): set when the cell holds references.
+pub(crate) fn dense_occupancy(offsets: &[u32]) -> Box<[u64]> {
+    let mut bits = vec![0u64; (offsets.len() - 1).div_ceil(64)];
+    for (c, w) in offsets.windows(2).enumerate() {
+        bits[c >> 6] |= u64::from(w[0] != w[1]) << (c & 63);
+    }
+    bits.into_boxed_slice()
+}
+
 struct DenseLookup<'a> {
     occ: &'a [u64],
     offsets: &'a [u32],
     refs: &'a [u32],
     nx: u64,
     nxy: u64,
+}
+
+impl<'a> DenseLookup<'a> {
+    /// The lookup of a dense table over cells `dims`.
+    fn new(dims: [u32; 3], occ: &'a [u64], offsets: &'a [u32], refs: &'a [u32]) -> Self {
+        let [nx, ny, _] = dims.map(u64::from);
+        Self {
+            occ,
+            offsets,
+            refs,
+            nx,
+            nxy: nx * ny,
+        }
+    }
 }
 
 impl<'a> CellLookup<'a> for DenseLookup<'a> {
@@ -260,14 +284,7 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
         let Some(dda) = Dda::new(&sub.geom, self.ray, self.t_min, self.t_lim) else {
             return;
         };
-        let [nx, ny, _] = sub.geom.dims.map(u64::from);
-        let lookup = DenseLookup {
-            occ: &sub.occ,
-            offsets: &sub.offsets,
-            refs: &sub.refs,
-            nx,
-            nxy: nx * ny,
-        };
+        let lookup = DenseLookup::new(sub.geom.dims, &sub.occ, &sub.offsets, &sub.refs);
         let none = Nested::default();
         let mut q = Closest::<P, C, MB> {
             prims: self.prims,
@@ -391,14 +408,7 @@ macro_rules! with_lookup {
     ($self:ident, $l:ident => $body:expr, $empty:expr) => {
         match &$self.cells {
             Cells::Dense { offsets } => {
-                let [nx, ny, _] = $self.geom.dims.map(u64::from);
-                let $l = DenseLookup {
-                    occ: &$self.occ,
-                    offsets,
-                    refs: &$self.refs,
-                    nx,
-                    nxy: nx * ny,
-                };
+                let $l = DenseLookup::new($self.geom.dims, &$self.occ, offsets, &$self.refs);
                 $body
             }
             Cells::Hashed { table } => {
@@ -599,9 +609,8 @@ impl<P: Primitive> Grid<P> {
                 .find(refs.len(), start)
                 .ok_or_else(|| format!("cell {idx:?}: no nested grid"))?;
             let g = &sub.geom;
-            if g.bounds != crate::nested::cover(&self.prims, &self.geom, idx, refs)
-                || g.pad < self.geom.pad
-            {
+            let boxes = refs.iter().map(|&p| self.prims[p as usize].bounds());
+            if g.bounds != crate::nested::cover(&self.geom, idx, boxes) || g.pad < self.geom.pad {
                 return Err(format!("cell {idx:?}: nested grid not over the cell"));
             }
             let cells = g.cell_count() as usize;
@@ -687,13 +696,7 @@ impl<P: Primitive> Grid<P> {
     fn occupancy_bits(&self) -> Box<[u64]> {
         match &self.cells {
             Cells::Empty => Box::new([]),
-            Cells::Dense { offsets } => {
-                let mut bits = vec![0u64; (offsets.len() - 1).div_ceil(64)];
-                for (c, w) in offsets.windows(2).enumerate() {
-                    bits[c >> 6] |= u64::from(w[0] != w[1]) << (c & 63);
-                }
-                bits.into_boxed_slice()
-            }
+            Cells::Dense { offsets } => dense_occupancy(offsets),
             Cells::Hashed { table } => {
                 let d = self.geom.dims.map(|n| n - 1);
                 let max_key = morton::encode3(d[0], d[1], d[2]);

@@ -17,6 +17,7 @@
 //! rule. So it finds the nearest hit inside the cell, ties included.
 
 use crate::geom::{self, Geom};
+use crate::grid::dense_occupancy;
 use crate::par::map_indices;
 use crate::{GridConfig, Primitive};
 use gridrt_bbox::Aabb;
@@ -111,16 +112,14 @@ impl Sub {
         refs: &[u32],
         m: f64,
     ) -> Self {
-        let cell = cover(prims, outer, idx, refs);
+        let boxes: Vec<Aabb> = refs.iter().map(|&p| prims[p as usize].bounds()).collect();
+        let cell = cover(outer, idx, boxes.iter().copied());
         let e = cell.extent();
         let ext = [geom::wide(e.x), geom::wide(e.y), geom::wide(e.z)];
         let dims = geom::resolution(ext, refs.len(), m, MAX_SUB_CELLS);
         let geom = Geom::new(cell, dims).with_pad(outer.pad);
         let count = geom.cell_count() as usize;
-        let ranges: Vec<([u32; 3], [u32; 3])> = refs
-            .iter()
-            .map(|&p| geom.cell_range(&prims[p as usize].bounds()))
-            .collect();
+        let ranges: Vec<([u32; 3], [u32; 3])> = boxes.iter().map(|b| geom.cell_range(b)).collect();
         let each = |f: &mut dyn FnMut(usize, u32)| {
             for (&p, &range) in refs.iter().zip(&ranges) {
                 geom.for_each_cell(range, |c| f(c, p));
@@ -138,29 +137,23 @@ impl Sub {
             out[next[c] as usize] = p;
             next[c] += 1;
         });
-        let mut occ = vec![0u64; count.div_ceil(64)];
-        for c in 0..count {
-            occ[c >> 6] |= u64::from(offsets[c] != offsets[c + 1]) << (c & 63);
-        }
         Self {
             start,
             geom,
+            occ: dense_occupancy(&offsets),
             offsets: offsets.into_boxed_slice(),
             refs: out.into_boxed_slice(),
-            occ: occ.into_boxed_slice(),
         }
     }
 }
 
 /// What the nested grid of outer cell `idx` spans: the cell's box widened
-/// by the pad, shrunk to the union of its references' boxes. (Should the
+/// by the pad, shrunk to the union of its references' `boxes`. (Should the
 /// two miss each other by rounding on some axis, no hit of these
 /// references lies in the cell along it, and the flat box left is as good
 /// as any.)
-pub(crate) fn cover<P: Primitive>(prims: &[P], outer: &Geom, idx: [u32; 3], refs: &[u32]) -> Aabb {
-    let union = refs
-        .iter()
-        .fold(Aabb::EMPTY, |b, &p| b.union(prims[p as usize].bounds()));
+pub(crate) fn cover(outer: &Geom, idx: [u32; 3], boxes: impl Iterator<Item = Aabb>) -> Aabb {
+    let union = boxes.fold(Aabb::EMPTY, Aabb::union);
     let cell = outer.padded_cell_box(idx);
     let lo = cell.min.max(union.min);
     Aabb::new(lo, cell.max.min(union.max).max(lo))
