@@ -64,8 +64,7 @@ pub(crate) fn build_dense<P: Primitive>(
     let chunks = chunk_count(n, parallel, 1 << 14);
     let parts = map_indices(chunks, parallel, |c| {
         let (s, e) = chunk_bounds(n, chunks, c);
-        let mut out = Vec::with_capacity(e - s);
-        crate::mem::advise_huge(&mut out);
+        let mut out = crate::mem::with_capacity(e - s);
         let mut volume = 0u64;
         for (prim, p) in (s as u32..).zip(&prims[s..e]) {
             let b = p.bounds();

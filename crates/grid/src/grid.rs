@@ -261,15 +261,15 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
         // SAFETY: every stored reference is a valid primitive index
         // (checked by `check_invariants`).
         let prim = unsafe { self.prims.get_unchecked(p as usize) };
-        self.test_prim(p, prim);
+        self.test_prim(|| p, prim);
     }
 
     /// Tests primitive `p`, given as `prim` (the original or a copy).
     #[inline(always)]
-    fn test_prim(&mut self, p: u32, prim: &P) {
+    fn test_prim(&mut self, p: impl FnOnce() -> u32, prim: &P) {
         self.counters.test();
         if let Some(h) = prim.closest_hit(self.ray, self.t_min, self.t_lim) {
-            let hit = Hit::new(h, p);
+            let hit = Hit::new(h, p());
             if self.best.as_ref().map_or(true, |b| hit.is_better_than(b)) {
                 self.t_lim = hit.t;
                 self.best = Some(hit);
@@ -338,6 +338,14 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
     #[inline(always)]
     fn test_refs(&mut self, refs: &[u32]) {
         let copies = self.cells.of(refs);
+        if !MB && !copies.is_empty() {
+            // The copies alone: a reference is read only for a hit.
+            for (k, prim) in copies.iter().enumerate() {
+                // SAFETY: a cell's copies and references are runs of one length.
+                self.test_prim(|| unsafe { *refs.get_unchecked(k) }, prim);
+            }
+            return;
+        }
         for (k, &p) in refs.iter().enumerate() {
             if MB {
                 debug_assert!((p as usize) < self.stamps.len());
@@ -350,7 +358,7 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
                 *s = self.stamp;
             }
             match copies.get(k) {
-                Some(prim) => self.test_prim(p, prim),
+                Some(prim) => self.test_prim(|| p, prim),
                 None => self.test(p),
             }
         }

@@ -104,7 +104,7 @@ mod dda;
 mod exhaustive;
 mod geom;
 mod grid;
-mod mem;
+pub mod mem;
 mod morton;
 mod nested;
 mod order;

@@ -1,4 +1,5 @@
-//! Large build buffers ask the kernel for transparent huge pages.
+//! Memory hints: large buffers ask the kernel for transparent huge pages,
+//! and known random reads can be prefetched.
 //!
 //! A grid over a million primitives fills tens of megabytes of fresh memory
 //! during the build; with 4 KiB pages every page costs a fault and the radix
@@ -7,6 +8,8 @@
 //! transparent huge pages are enabled in `madvise` or `always` mode). It is
 //! a hint only: on failure, or on other systems, nothing changes. So is
 //! [`prefetch`], for random reads whose addresses are known in advance.
+//! Both are public for callers that fill or gather large per-primitive
+//! arrays of their own (a renderer's colours, a generator's spheres).
 
 /// Buffers below this size are left alone.
 const MIN_BYTES: usize = 4 << 20;
@@ -38,18 +41,40 @@ pub(crate) fn advise_huge<T>(v: &mut Vec<T>) {
     }
 }
 
-/// A vector of `n` copies of `x` on huge pages where possible.
-pub(crate) fn filled<T: Copy>(n: usize, x: T) -> Vec<T> {
+/// An empty vector with room for `n` elements, on huge pages where
+/// possible: for large buffers about to be filled (a million primitives).
+///
+/// ```
+/// let mut v: Vec<u64> = gridrt_grid::mem::with_capacity(1 << 20);
+/// v.extend(0..1 << 20);
+/// assert_eq!(v[12345], 12345);
+/// ```
+#[must_use]
+pub fn with_capacity<T>(n: usize) -> Vec<T> {
     let mut v = Vec::with_capacity(n);
     advise_huge(&mut v);
+    v
+}
+
+/// A vector of `n` copies of `x` on huge pages where possible.
+pub(crate) fn filled<T: Copy>(n: usize, x: T) -> Vec<T> {
+    let mut v = with_capacity(n);
     v.resize(n, x);
     v
 }
 
 /// Asks the CPU to bring the cache line holding `x` closer, ahead of a
 /// read (on x86-64; elsewhere nothing happens). A hint: no visible effect.
+/// The grid uses it when it gathers primitives; a renderer can use it for
+/// per-primitive data it will read after a hit.
+///
+/// ```
+/// let colours = vec![[0.5f32; 3]; 1000];
+/// gridrt_grid::mem::prefetch(&colours[700]);
+/// assert_eq!(colours[700][1], 0.5);
+/// ```
 #[inline(always)]
-pub(crate) fn prefetch<T>(x: &T) {
+pub fn prefetch<T>(x: &T) {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};

@@ -25,8 +25,7 @@ pub(crate) fn map_range<R: Send>(
     parallel: bool,
     f: impl Fn(usize) -> R + Sync + Send,
 ) -> Vec<R> {
-    let mut out = Vec::with_capacity(n);
-    crate::mem::advise_huge(&mut out);
+    let mut out = crate::mem::with_capacity(n);
     #[cfg(feature = "rayon")]
     if parallel {
         use rayon::prelude::*;

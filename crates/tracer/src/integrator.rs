@@ -192,6 +192,26 @@ where
                 .any(|p| p.intersect(ray, 0.0, t_max).is_some())
     }
 
+    /// Starts loading the per-primitive data [`Tracer::shading`] will read
+    /// for `found`, so that the cache misses overlap other work.
+    #[inline]
+    pub(crate) fn prefetch(&self, found: Option<Found>) {
+        if let Some(Found::Prim(h)) = found {
+            let i = h.prim as usize;
+            if let Some(p) = self.accel.primitives().get(i) {
+                gridrt_grid::mem::prefetch(p);
+            }
+            if let Some(a) = self.data.prim_albedo.get(i) {
+                gridrt_grid::mem::prefetch(a);
+            }
+            if let PrimMaterials::PerPrim(v) = &self.data.prim_material {
+                if let Some(m) = v.get(i) {
+                    gridrt_grid::mem::prefetch(m);
+                }
+            }
+        }
+    }
+
     /// What shading needs to know about a hit: the surface point, normals,
     /// material and colour. The loads of per-primitive data happen here, so
     /// that a render loop can gather them for several hits at once.

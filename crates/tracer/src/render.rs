@@ -822,6 +822,7 @@ impl Job<'_> {
                 for k in 0..n {
                     rays[k] = self.camera.ray(tile.x0 + k as u32, r, 0.5, 0.5);
                     found[k] = tr.closest(&rays[k], Real::INFINITY, &mut ts.scratch);
+                    tr.prefetch(found[k]);
                 }
                 ts.counts.camera += n as u64;
                 let shading: [Option<Shading>; N] =

@@ -127,8 +127,8 @@ pub fn sphere_set(n: usize, seed: u64) -> SphereSet {
     let mut rng = Lcg::new(seed);
     let radius = sphere_radius(n.max(1)) as Real;
     let mut set = SphereSet {
-        spheres: Vec::with_capacity(n),
-        colors: Vec::with_capacity(n),
+        spheres: gridrt_grid::mem::with_capacity(n),
+        colors: gridrt_grid::mem::with_capacity(n),
         material: 0,
     };
     for _ in 0..n {
