@@ -43,6 +43,10 @@ pub(crate) struct Built {
     pub spread: [Box<[u64]>; 3],
     pub occupied: u64,
     pub max_refs: u32,
+    /// Empty, or (when the build was asked to renumber) the primitive of
+    /// each slot: `refs` then hold slots, numbered in the order the
+    /// primitives first appear in the references.
+    pub ids: Box<[u32]>,
 }
 
 /// True when a primitive box can be placed in the grid.
@@ -51,8 +55,9 @@ pub(crate) fn is_gridded(b: &Aabb) -> bool {
     b.min.is_finite() && b.max.is_finite() && b.min.cmple(b.max).all()
 }
 
-/// Builds the cell structure for `prims`.
-pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig) -> Built {
+/// Builds the cell structure for `prims`; with `renumber`, the references
+/// hold slots instead of primitive indices (see [`Built::ids`]).
+pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig, renumber: bool) -> Built {
     let parallel = config.parallel_build;
     let n = prims.len();
     // Phase 1: the union of the finite boxes, and the primitives that cannot be gridded.
@@ -91,6 +96,7 @@ pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig) -> Built {
             spread: [Box::new([]), Box::new([]), Box::new([])],
             occupied: 0,
             max_refs: 0,
+            ids: Box::new([]),
         };
     }
 
@@ -109,8 +115,8 @@ pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig) -> Built {
         .min(u64::from(u32::MAX) / 2);
     loop {
         let g = Geom::new(bounds, dims);
-        match build_cells(prims, &g, config, ref_limit) {
-            Some((cells, refs, spread, occupied, max_refs)) => {
+        match build_cells(prims, &g, config, ref_limit, renumber) {
+            Some(((cells, refs, spread, occupied, max_refs), ids)) => {
                 return Built {
                     geom: g,
                     cells,
@@ -119,11 +125,30 @@ pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig) -> Built {
                     spread,
                     occupied,
                     max_refs,
+                    ids,
                 };
             }
             None => dims = dims.map(|d| (d / 2).max(1)),
         }
     }
+}
+
+/// Replaces each reference by a slot, numbering the primitives in the
+/// order they first appear in `refs` (so in cell order: a primitive's slot
+/// is near those of its neighbours in space); returns the primitive of
+/// each slot.
+fn first_seen(refs: &mut [u32], prims: usize) -> Box<[u32]> {
+    let mut slot = crate::mem::filled(prims, u32::MAX);
+    let mut ids: Vec<u32> = crate::mem::with_capacity(prims);
+    for r in refs.iter_mut() {
+        let s = &mut slot[*r as usize];
+        if *s == u32::MAX {
+            *s = ids.len() as u32;
+            ids.push(*r);
+        }
+        *r = *s;
+    }
+    ids.into_boxed_slice()
 }
 
 pub(crate) type CellsOut = (Cells, Box<[u32]>, [Box<[u64]>; 3], u64, u32);
@@ -180,10 +205,11 @@ fn build_cells<P: Primitive>(
     g: &Geom,
     config: &GridConfig,
     ref_limit: u64,
-) -> Option<CellsOut> {
+    renumber: bool,
+) -> Option<(CellsOut, Box<[u32]>)> {
     let hashed = config.storage == CellStorage::Hashed;
     if !hashed {
-        return crate::compact::build_dense(prims, g, config, ref_limit);
+        return crate::compact::build_dense(prims, g, config, ref_limit, renumber);
     }
     let spread: [Box<[u64]>; 3] = if hashed {
         std::array::from_fn(|a| {
@@ -202,11 +228,17 @@ fn build_cells<P: Primitive>(
         g.cell_count() - 1
     };
     let key_bits = 64 - max_key.leading_zeros();
-    if key_bits <= 32 {
+    let mut out = if key_bits <= 32 {
         build_pairs::<P, u64>(prims, g, config, ref_limit, spread, key_bits)
     } else {
         build_pairs::<P, Wide>(prims, g, config, ref_limit, spread, key_bits)
-    }
+    }?;
+    let ids = if renumber {
+        first_seen(&mut out.1, prims.len())
+    } else {
+        Box::new([])
+    };
+    Some((out, ids))
 }
 
 fn build_pairs<P: Primitive, T: Pair>(

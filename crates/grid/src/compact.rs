@@ -41,12 +41,16 @@ fn record(prim: u32, code: u64, base: usize) -> Record {
 }
 
 /// Builds dense offsets and references; `None` past `ref_limit` references.
+/// With `renumber` the records are sorted by their first cell exactly, the
+/// references are record positions (slots) instead of primitive indices,
+/// and the last element of the result is the primitive of each slot.
 pub(crate) fn build_dense<P: Primitive>(
     prims: &[P],
     g: &Geom,
     config: &GridConfig,
     ref_limit: u64,
-) -> Option<CellsOut> {
+    renumber: bool,
+) -> Option<(CellsOut, Box<[u32]>)> {
     let parallel = config.parallel_build;
     let exact = config.exact_insertion;
     let n = prims.len();
@@ -95,9 +99,10 @@ pub(crate) fn build_dense<P: Primitive>(
     };
     // Order the records by the run of 2^shift row-major cells their first
     // cell is in (one stable radix pass of at most 12 bits): counting and
-    // filling then sweep the offsets nearly in order.
+    // filling then sweep the offsets nearly in order. Slots follow the
+    // record order, so for them the order is exact (more passes).
     let cell_bits = 64 - (cells as u64).leading_zeros();
-    let key_bits: u32 = 12;
+    let key_bits: u32 = if renumber { cell_bits } else { 12 };
     let shift = cell_bits.saturating_sub(key_bits);
     if cell_bits > shift && packable {
         let mut tmp = Vec::new();
@@ -133,7 +138,7 @@ pub(crate) fn build_dense<P: Primitive>(
         let slab_totals: Vec<(u64, u32, u64)> =
             map_slabs(slab_counts, parallel, |(z0, z1, counts)| {
                 let lo = z0 * nxy;
-                for_each_ref(prims, g, ranges, exact, z0, z1, false, |c, _| {
+                for_each_ref(prims, g, ranges, exact, z0, z1, false, |c, _, _| {
                     counts[c - lo] += 1
                 });
                 // Local inclusive scan, with the slab's occupancy and largest cell.
@@ -197,21 +202,29 @@ pub(crate) fn build_dense<P: Primitive>(
         let ranges = &ranges;
         map_slabs(work, parallel, |(z0, z1, offs, out, base)| {
             let lo = z0 * nxy;
-            for_each_ref(prims, g, ranges, exact, z0, z1, true, |c, p| {
+            for_each_ref(prims, g, ranges, exact, z0, z1, true, |c, p, slot| {
                 let o = &mut offs[c - lo];
                 *o -= 1;
-                out[*o as usize - base] = p;
+                out[*o as usize - base] = if renumber { slot } else { p };
             });
         });
     }
+    let ids = if renumber {
+        crate::par::map_range(ranges.len(), parallel, |i| ranges[i] as u32).into_boxed_slice()
+    } else {
+        Box::new([])
+    };
     Some((
-        crate::build::Cells::Dense {
-            offsets: offsets.into_boxed_slice(),
-        },
-        refs.into_boxed_slice(),
-        [Box::new([]), Box::new([]), Box::new([])],
-        occupied,
-        max_refs,
+        (
+            crate::build::Cells::Dense {
+                offsets: offsets.into_boxed_slice(),
+            },
+            refs.into_boxed_slice(),
+            [Box::new([]), Box::new([]), Box::new([])],
+            occupied,
+            max_refs,
+        ),
+        ids,
     ))
 }
 
@@ -230,8 +243,8 @@ fn map_slabs<W: Send, R: Send>(
     work.into_iter().map(f).collect()
 }
 
-/// Calls `f(cell, prim)` for every reference whose cell lies in the z-layers
-/// `z0..z1`, in record order (reversed when `rev`).
+/// Calls `f(cell, prim, record)` for every reference whose cell lies in the
+/// z-layers `z0..z1`, in record order (reversed when `rev`).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn for_each_ref<P: Primitive>(
@@ -242,7 +255,7 @@ fn for_each_ref<P: Primitive>(
     z0: usize,
     z1: usize,
     rev: bool,
-    mut f: impl FnMut(usize, u32),
+    mut f: impl FnMut(usize, u32, u32),
 ) {
     let [nx, ny, nz] = g.dims.map(|d| d as usize);
     let nxy = nx * ny;
@@ -263,7 +276,8 @@ fn for_each_ref<P: Primitive>(
         }
         out
     });
-    let mut one = |&r: &Record| {
+    let mut one = |(slot, &r): (usize, &Record)| {
+        let slot = slot as u32;
         let prim = r as u32;
         let code = (r >> 32) & 0xf;
         if code != GENERAL && !exact {
@@ -272,7 +286,7 @@ fn for_each_ref<P: Primitive>(
             for &o in &corners[code as usize][..1 << code.count_ones()] {
                 let c = base + o;
                 if whole || (lin0..lin1).contains(&c) {
-                    f(c, prim);
+                    f(c, prim, slot);
                 }
             }
             return;
@@ -291,14 +305,14 @@ fn for_each_ref<P: Primitive>(
                     {
                         continue;
                     }
-                    f(k * nxy + j * nx + i, prim);
+                    f(k * nxy + j * nx + i, prim, slot);
                 }
             }
         }
     };
     if rev {
-        ranges.iter().rev().for_each(&mut one);
+        ranges.iter().enumerate().rev().for_each(&mut one);
     } else {
-        ranges.iter().for_each(&mut one);
+        ranges.iter().enumerate().for_each(&mut one);
     }
 }
