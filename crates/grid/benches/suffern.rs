@@ -7,6 +7,7 @@
 //! `spheres` (N = 1e3…1e6), `mesh` (1,024,000 triangles), `bunny`,
 //! `copies` (spheres copied into cell order), `sorted`, `sweep` (m and
 //! storage sweep), `mailbox`, `meshnest` (nested grids on the mesh),
+//! `meshshadow` (any-hit shadow rays on the mesh, with and without nesting),
 //! `exhaustive`; `SUFFERN_N`
 //! overrides the list of N. Timings are best of several runs, in one thread
 //! (the build also with rayon).
@@ -18,6 +19,7 @@ mod scenes;
 
 use gridrt_grid::{
     Accelerator, CellStorage, Exhaustive, Grid, GridConfig, Primitive, QueryCounters, Ray, Real,
+    Vec3,
 };
 use prims::Triangle;
 use std::hint::black_box;
@@ -422,6 +424,41 @@ fn main() {
                 };
                 print_row(&name, &c, &measure(&tris, &rays, &c, 5));
             }
+        }
+    }
+    if has("meshshadow") {
+        // Shadow rays (any hit) toward the book's light from every camera
+        // hit on the mesh: the flat grid against nested grids.
+        let tris = scenes::uv_sphere_mesh(&scenes::suffern_spheres(1000), 32, 17);
+        let light = Vec3::new(-10.0, 20.0, 20.0).normalize();
+        let flat = Grid::build(tris.clone(), &base);
+        let mut s = flat.scratch();
+        let shadow: Vec<Ray> = rays
+            .iter()
+            .filter_map(|r| {
+                let h = flat.closest_hit(r, 0.0, Real::INFINITY, &mut s)?;
+                Some(Ray::new(r.origin + r.dir * h.t + light * 1e-3, light))
+            })
+            .collect();
+        for (m, nest_min_refs) in [(1.25, 0), (1.25, 8), (0.5, 0), (0.5, 8)] {
+            let c = GridConfig {
+                m,
+                nest_min_refs,
+                ..base
+            };
+            let g = Grid::build(tris.clone(), &c);
+            let mut s = g.scratch();
+            let (t, occluded) = best_of(5, || {
+                shadow
+                    .iter()
+                    .filter(|r| g.any_hit(r, 0.0, Real::INFINITY, &mut s))
+                    .count()
+            });
+            println!(
+                "# shadow rays m = {m}, nest_min_refs = {nest_min_refs}: {} rays, {occluded} occluded, {:.2} ms",
+                shadow.len(),
+                ms(t)
+            );
         }
     }
     if has("meshexact") {

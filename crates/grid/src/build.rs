@@ -207,26 +207,17 @@ fn build_cells<P: Primitive>(
     ref_limit: u64,
     renumber: bool,
 ) -> Option<(CellsOut, Box<[u32]>)> {
-    let hashed = config.storage == CellStorage::Hashed;
-    if !hashed {
+    if config.storage == CellStorage::Dense {
         return crate::compact::build_dense(prims, g, config, ref_limit, renumber);
     }
-    let spread: [Box<[u64]>; 3] = if hashed {
-        std::array::from_fn(|a| {
-            (0..g.dims[a])
-                .map(|i| morton::encode3(i, 0, 0) << a)
-                .collect()
-        })
-    } else {
-        [Box::new([]), Box::new([]), Box::new([])]
-    };
-    let max_key = if hashed {
-        spread[0][g.dims[0] as usize - 1]
-            | spread[1][g.dims[1] as usize - 1]
-            | spread[2][g.dims[2] as usize - 1]
-    } else {
-        g.cell_count() - 1
-    };
+    let spread: [Box<[u64]>; 3] = std::array::from_fn(|a| {
+        (0..g.dims[a])
+            .map(|i| morton::encode3(i, 0, 0) << a)
+            .collect()
+    });
+    let max_key = spread[0][g.dims[0] as usize - 1]
+        | spread[1][g.dims[1] as usize - 1]
+        | spread[2][g.dims[2] as usize - 1];
     let key_bits = 64 - max_key.leading_zeros();
     let mut out = if key_bits <= 32 {
         build_pairs::<P, u64>(prims, g, config, ref_limit, spread, key_bits)
@@ -241,6 +232,7 @@ fn build_cells<P: Primitive>(
     Some((out, ids))
 }
 
+/// The hashed table's build: `(Morton code, primitive)` pairs, sorted.
 fn build_pairs<P: Primitive, T: Pair>(
     prims: &[P],
     g: &Geom,
@@ -250,15 +242,9 @@ fn build_pairs<P: Primitive, T: Pair>(
     key_bits: u32,
 ) -> Option<CellsOut> {
     let parallel = config.parallel_build;
-    let hashed = config.storage == CellStorage::Hashed;
     let n = prims.len();
-    let [nx, ny, _] = g.dims.map(u64::from);
     let key_of = |i: u32, j: u32, k: u32| -> u64 {
-        if hashed {
-            spread[0][i as usize] | spread[1][j as usize] | spread[2][k as usize]
-        } else {
-            u64::from(i) + nx * (u64::from(j) + ny * u64::from(k))
-        }
+        spread[0][i as usize] | spread[1][j as usize] | spread[2][k as usize]
     };
 
     // Phase 3: one pair per reference, chunk by chunk (in primitive order).
@@ -336,30 +322,20 @@ fn build_pairs<P: Primitive, T: Pair>(
     let mut max_refs = 0u32;
     let mut run_start = 0usize;
     let mut runs: Vec<(u64, u32, u32)> = Vec::new();
-    let want_runs = hashed;
     for i in 1..=r {
         if i == r || pairs[i].key() != pairs[run_start].key() {
             let len = (i - run_start) as u32;
             occupied += 1;
             max_refs = max_refs.max(len);
-            if want_runs {
-                runs.push((pairs[run_start].key(), run_start as u32, len));
-            }
+            runs.push((pairs[run_start].key(), run_start as u32, len));
             run_start = i;
         }
     }
-    let cells = if hashed {
-        let mut table = CellTable::with_cells(runs.len());
-        for &(key, start, len) in &runs {
-            table.insert(key, start, len);
-        }
-        Cells::Hashed { table }
-    } else {
-        Cells::Dense {
-            offsets: dense_offsets(&pairs, g.cell_count() as usize, parallel),
-        }
-    };
-    Some((cells, refs, spread, occupied, max_refs))
+    let mut table = CellTable::with_cells(runs.len());
+    for &(key, start, len) in &runs {
+        table.insert(key, start, len);
+    }
+    Some((Cells::Hashed { table }, refs, spread, occupied, max_refs))
 }
 
 /// Concatenates the per-chunk pair vectors (in parallel when asked).
@@ -384,27 +360,4 @@ fn concat<T: Pair>(parts: Vec<Vec<T>>, parallel: bool) -> Vec<T> {
     // SAFETY: the parts cover 0..total exactly.
     unsafe { out.set_len(total) };
     out
-}
-
-/// CSR offsets for a dense table: `offsets[c]` is the index of the first pair
-/// with key `>= c`, for `c` in `0..=cells`.
-fn dense_offsets<T: Pair>(pairs: &[T], cells: usize, parallel: bool) -> Box<[u32]> {
-    let len = cells + 1;
-    let mut offsets: Vec<u32> = Vec::with_capacity(len);
-    let chunks = chunk_count(len, parallel, 1 << 18);
-    let dst = SharedMut(offsets.as_mut_ptr());
-    map_indices(chunks, parallel, |c| {
-        let (s, e) = chunk_bounds(len, chunks, c);
-        let mut lb = pairs.partition_point(|p| p.key() < s as u64);
-        for cell in s..e {
-            while lb < pairs.len() && pairs[lb].key() < cell as u64 {
-                lb += 1;
-            }
-            // SAFETY: chunk c owns positions s..e, all below `len`.
-            unsafe { dst.write(cell, lb as u32) };
-        }
-    });
-    // SAFETY: the chunks cover 0..len exactly.
-    unsafe { offsets.set_len(len) };
-    offsets.into_boxed_slice()
 }

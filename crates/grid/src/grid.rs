@@ -132,6 +132,13 @@ impl<'a> DenseLookup<'a> {
     }
 }
 
+impl Sub {
+    /// The lookup of a nested grid's dense table.
+    fn lookup(&self) -> DenseLookup<'_> {
+        DenseLookup::new(self.geom.dims, &self.occ, &self.offsets, &self.refs)
+    }
+}
+
 impl<'a> CellLookup<'a> for DenseLookup<'a> {
     #[inline(always)]
     fn start(&self, idx: [u32; 3], neg: [bool; 3]) -> (u64, [u64; 3]) {
@@ -274,7 +281,7 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
         let Some(dda) = Dda::new(&sub.geom, self.ray, self.t_min, self.t_lim) else {
             return;
         };
-        let lookup = DenseLookup::new(sub.geom.dims, &sub.occ, &sub.offsets, &sub.refs);
+        let lookup = sub.lookup();
         let none = Nested::default();
         let mut q = Closest::<P, C, MB> {
             prims: self.prims,
@@ -345,6 +352,9 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
 struct AnyHit<'q, P, C, const MB: bool> {
     /// What the references index: the grid's copies or its primitives.
     prims: &'q [P],
+    /// The grid's references (a cell's nested grid is found by its run's start).
+    refs: &'q [u32],
+    nested: &'q Nested,
     ray: &'q Ray,
     t_min: Real,
     t_max: Real,
@@ -361,6 +371,9 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for AnyHit<'_, P,
         self.counters.cell();
         if refs.is_empty() {
             return ControlFlow::Continue(());
+        }
+        if let Some(sub) = self.nested.find(refs.len(), run_start(self.refs, refs)) {
+            return self.walk_sub(sub);
         }
         for &p in refs {
             if MB {
@@ -380,6 +393,32 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for AnyHit<'_, P,
             }
         }
         ControlFlow::Continue(())
+    }
+}
+
+impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
+    /// Walks the nested grid of a crowded cell: only the references in the
+    /// nested cells along the ray are tested. An occluder whose hit lies
+    /// outside this cell is found in the cell that holds the hit.
+    #[inline(never)]
+    fn walk_sub(&mut self, sub: &Sub) -> ControlFlow<()> {
+        let Some(dda) = Dda::new(&sub.geom, self.ray, self.t_min, self.t_max) else {
+            return ControlFlow::Continue(());
+        };
+        let lookup = sub.lookup();
+        let none = Nested::default();
+        let mut q = AnyHit::<P, C, MB> {
+            prims: self.prims,
+            refs: &sub.refs,
+            nested: &none,
+            ray: self.ray,
+            t_min: self.t_min,
+            t_max: self.t_max,
+            stamps: &mut *self.stamps,
+            stamp: self.stamp,
+            counters: &mut *self.counters,
+        };
+        dda.walk(&lookup, &mut q)
     }
 }
 
@@ -851,6 +890,8 @@ impl<P: Primitive> Grid<P> {
         };
         let mut q = AnyHit::<P, C, MB> {
             prims: self.slots(),
+            refs: &self.refs,
+            nested: &self.nested,
             ray,
             t_min,
             t_max,

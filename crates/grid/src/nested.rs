@@ -4,9 +4,9 @@
 //! object hold dozens of primitives each. A cell with at least
 //! [`GridConfig::nest_min_refs`] references gets a small dense grid of its
 //! own, built from those references by the lecture's formula over the part
-//! of the cell that they cover; `closest_hit` walks it instead of testing
-//! the cell's references one by one. The cell keeps its references too, so
-//! every other use of the cell (any-hit queries, the public walk, the
+//! of the cell that they cover; `closest_hit` and `any_hit` walk it instead
+//! of testing the cell's references one by one. The cell keeps its
+//! references too, so every other use of the cell (the public walk, the
 //! self-checks) is unchanged.
 //!
 //! Correctness is the outer grid's argument one level down. The nested grid
