@@ -330,21 +330,33 @@ fn check_set(scene: &Scene, set: &SphereSet) -> Result<(), SceneError> {
             spheres: set.spheres.len(),
         });
     }
-    for (i, s) in set.spheres.iter().enumerate() {
-        if !s.center.is_finite() {
-            return Err(SceneError::NotFinite {
-                object: object + i,
-                what: "sphere centre",
-            });
-        }
-        if !(s.radius > 0.0 && s.radius.is_finite()) {
-            return Err(SceneError::BadRadius {
-                object: object + i,
-                radius: to_f64(s.radius),
-            });
+    // One branch-free pass over a million spheres; the loop below, which
+    // names the first bad one, runs only when there is one.
+    let all_ok = set.spheres.iter().fold(true, |ok, s| {
+        let c = s.center;
+        ok & c.x.is_finite()
+            & c.y.is_finite()
+            & c.z.is_finite()
+            & (s.radius > 0.0)
+            & s.radius.is_finite()
+    });
+    if !all_ok {
+        for (i, s) in set.spheres.iter().enumerate() {
+            if !s.center.is_finite() {
+                return Err(SceneError::NotFinite {
+                    object: object + i,
+                    what: "sphere centre",
+                });
+            }
+            if !(s.radius > 0.0 && s.radius.is_finite()) {
+                return Err(SceneError::BadRadius {
+                    object: object + i,
+                    radius: to_f64(s.radius),
+                });
+            }
         }
     }
-    if set.colors.iter().any(|c| !color_ok(*c)) {
+    if !set.colors.iter().fold(true, |ok, &c| ok & color_ok(c)) {
         return Err(SceneError::BadMaterial {
             material: set.material as usize,
             reason: "a sphere-set colour is negative or not finite",

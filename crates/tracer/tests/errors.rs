@@ -255,6 +255,27 @@ fn sphere_sets() {
     let e = Renderer::with_spheres(&s, set(vec![Sphere::new(Vec3::ZERO, 0.0)], vec![], 0), &o)
         .unwrap_err();
     assert!(matches!(e, SceneError::BadRadius { object: 1, .. }));
+    // The first bad sphere of several is the one named.
+    let good = Sphere::new(Vec3::ONE, 0.5);
+    let mut spheres = vec![good; 5];
+    spheres[3] = Sphere::new(Vec3::new(0.0, Real::NAN, 0.0), 0.5);
+    spheres[4] = Sphere::new(Vec3::ZERO, Real::INFINITY);
+    let e = Renderer::with_spheres(&s, set(spheres.clone(), vec![], 0), &o).unwrap_err();
+    assert!(
+        matches!(e, SceneError::NotFinite { object: 4, .. }),
+        "{e:?}"
+    );
+    spheres[3] = good;
+    let e = Renderer::with_spheres(&s, set(spheres, vec![], 0), &o).unwrap_err();
+    assert!(
+        matches!(e, SceneError::BadRadius { object: 5, .. }),
+        "{e:?}"
+    );
+    let mut colors = vec![Rgb::ONE; 5];
+    colors[2] = Rgb::new(0.5, -0.1, 0.5);
+    let e = Renderer::with_spheres(&s, set(vec![good; 5], colors, 0), &o).unwrap_err();
+    assert!(matches!(e, SceneError::BadMaterial { .. }), "{e:?}");
+    assert!(Renderer::with_spheres(&s, set(vec![good; 5], vec![Rgb::ONE; 5], 0), &o).is_ok());
 }
 
 #[test]
