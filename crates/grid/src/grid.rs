@@ -103,11 +103,16 @@ fn bit(bits: &[u64], key: u64) -> bool {
 /// One bit per cell of a dense table (`offsets[c]..offsets[c + 1]` are
 /// cell `c`'s references): set when the cell holds references.
 pub(crate) fn dense_occupancy(offsets: &[u32]) -> Box<[u64]> {
-    let mut bits = vec![0u64; (offsets.len() - 1).div_ceil(64)];
-    for (c, w) in offsets.windows(2).enumerate() {
-        bits[c >> 6] |= u64::from(w[0] != w[1]) << (c & 63);
-    }
-    bits.into_boxed_slice()
+    let cells = offsets.len() - 1;
+    // A word at a time, 64 comparisons of neighbouring offsets each: a
+    // fixed-length loop the compiler turns into vector compares.
+    let word = |w: usize| {
+        let o = &offsets[w * 64..(w * 64 + 65).min(offsets.len())];
+        o.windows(2)
+            .enumerate()
+            .fold(0u64, |bits, (b, p)| bits | u64::from(p[0] != p[1]) << b)
+    };
+    (0..cells.div_ceil(64)).map(word).collect()
 }
 
 struct DenseLookup<'a> {
