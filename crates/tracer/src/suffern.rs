@@ -164,9 +164,10 @@ pub fn spheres(n: usize, seed: u64) -> Vec<RandomSphere> {
 /// through a vector of [`RandomSphere`]).
 ///
 /// Each LCG step waits for the one before, so one sequence is drawn as
-/// [`LANES`] independent ones, each started with [`Lcg::skip`] at its share
+/// four independent ones, each started with [`Lcg::skip`] at its share
 /// of the spheres and stepped in turn, which lets the processor overlap
-/// them: the same numbers in the same places, a few times faster.
+/// them: the same numbers in the same places (at 10⁶ spheres about 3 ms of
+/// 8–10 less; the rest is writing 28 MB of fresh memory).
 #[must_use]
 pub fn sphere_set(n: usize, seed: u64) -> SphereSet {
     let radius = sphere_radius(n.max(1)) as Real;
