@@ -79,9 +79,9 @@ pub struct GridConfig {
     /// still apply). For tests and experiments.
     pub dims: Option<[u32; 3]>,
     /// Cells with at least this many references get a nested grid of their
-    /// own, which `closest_hit` walks instead of testing every reference
-    /// (the remedy for a detailed object in a large empty scene); 0 turns
-    /// nesting off.
+    /// own, which `closest_hit` and `any_hit` walk instead of testing every
+    /// reference (the remedy for a detailed object in a large empty scene);
+    /// 0 turns nesting off.
     pub nest_min_refs: u32,
 }
 
