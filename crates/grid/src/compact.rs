@@ -1,7 +1,8 @@
 //! The dense build: Lagae & Dutré's compact grid (2008, "Compact, fast and
 //! robust grids for ray tracing"). Count the references per cell, prefix-sum
 //! the counts into offsets, then fill the one flat reference array. No
-//! `(cell, primitive)` pairs are materialised and nothing is sorted.
+//! `(cell, primitive)` pairs are materialised: what is sorted is one record
+//! per primitive.
 //!
 //! Each primitive's cell range is computed once, in parallel, and kept in an
 //! 8-byte record (its first cell and which of the 2×2×2 cells after it it
@@ -11,16 +12,18 @@
 //! sweep the offsets nearly in order instead of at random: a scene's
 //! primitives usually come in no spatial order, and random increments into
 //! a large offset table would miss the cache at every step.
-//! Counting and filling are split by slabs of cells along z:
-//! every worker reads all the records but only touches the offsets and
-//! references of its own slab, so no two workers write the same memory and
-//! no atomics are needed. Sequentially there is a single slab.
+//! Counting and filling are split by slabs of cells along z, a few per
+//! worker with about as many records each: a worker reads only the window
+//! of sorted records that can reach its slab and touches only the offsets
+//! and references of that slab, so no two workers write the same memory
+//! and no atomics are needed. Sequentially there is a single slab.
 
 use crate::build::{is_gridded, CellsOut};
 use crate::geom::Geom;
-use crate::par::{chunk_bounds, chunk_count, map_indices};
+use crate::par::{chunk_bounds, chunk_count, map_indices, SharedMut};
 use crate::radix;
 use crate::{GridConfig, Primitive};
+use std::ops::Range;
 
 /// One primitive's cell range, packed in a `u64`: the primitive index in
 /// bits 0..32, a shape code in bits 32..36 and the row-major index of the
@@ -63,13 +66,17 @@ pub(crate) fn build_dense<P: Primitive>(
     // Whether a first cell's index fits the record's 28 bits.
     let packable = cells <= 1 << (64 - BASE_SHIFT);
 
-    // Ranges, in parallel over chunks of primitives; the total is an upper
+    // Ranges, in parallel over chunks of primitives, each written where its
+    // primitives are (one buffer, no concatenation); the total is an upper
     // bound of the references (exact insertion may drop some).
     let chunks = chunk_count(n, parallel, 1 << 14);
+    let mut ranges: Vec<Record> = crate::mem::with_capacity(n);
+    let dst = SharedMut(ranges.as_mut_ptr());
     let parts = map_indices(chunks, parallel, |c| {
         let (s, e) = chunk_bounds(n, chunks, c);
-        let mut out = crate::mem::with_capacity(e - s);
+        let mut len = 0;
         let mut volume = 0u64;
+        let mut generals = 0usize;
         for (prim, p) in (s as u32..).zip(&prims[s..e]) {
             let b = p.bounds();
             if !is_gridded(&b) {
@@ -84,19 +91,31 @@ pub(crate) fn build_dense<P: Primitive>(
             } else {
                 GENERAL
             };
-            out.push(record(prim, code, if packable { base } else { 0 }));
+            generals += usize::from(code == GENERAL);
+            // SAFETY: chunk `c` writes only positions `s..s + len`, `len <=
+            // e - s`, within the capacity `n`.
+            unsafe { dst.write(s + len, record(prim, code, if packable { base } else { 0 })) };
+            len += 1;
         }
-        (out, volume)
+        (s, len, volume, generals)
     });
-    let volume: u64 = parts.iter().map(|p| p.1).sum();
+    // Close the gaps left by primitives that are not gridded (if any).
+    let mut total = 0;
+    for &(s, len, ..) in &parts {
+        if s != total {
+            // SAFETY: positions `s..s + len` were written above and
+            // `total <= s`; `copy` handles the overlap.
+            unsafe { std::ptr::copy(dst.0.add(s), dst.0.add(total), len) };
+        }
+        total += len;
+    }
+    // SAFETY: positions `0..total` now hold the records, in primitive order.
+    unsafe { ranges.set_len(total) };
+    let volume: u64 = parts.iter().map(|p| p.2).sum();
     if volume > ref_limit {
         return None;
     }
-    let mut ranges: Vec<Record> = if parts.len() == 1 {
-        parts.into_iter().next().map(|p| p.0).unwrap_or_default()
-    } else {
-        parts.into_iter().flat_map(|p| p.0).collect()
-    };
+    let generals: usize = parts.iter().map(|p| p.3).sum();
     // Order the records by the run of 2^shift row-major cells their first
     // cell is in (one stable radix pass of at most 12 bits): counting and
     // filling then sweep the offsets nearly in order. Slots follow the
@@ -115,30 +134,25 @@ pub(crate) fn build_dense<P: Primitive>(
         );
     }
 
-    // Slabs of whole z-layers, one or a few per worker.
-    // Every worker scans all the records, so exactly one slab per thread.
-    let slabs = crate::par::threads(parallel)
-        .min(nz)
-        .min(cells / (1 << 14))
-        .max(1);
-    let slab_z: Vec<(usize, usize)> = (0..slabs).map(|s| chunk_bounds(nz, slabs, s)).collect();
+    let sorted = packable && cell_bits > shift;
+    let slabs = slabs(&ranges, g, sorted, shift, generals, parallel);
 
     // Count (per slab), then an inclusive prefix sum: offsets[c] = end of cell c.
     let mut offsets = crate::mem::filled(cells + 1, 0u32);
     let (occupied, max_refs);
     {
         let mut rest: &mut [u32] = &mut offsets[..cells];
-        let mut slab_counts = Vec::with_capacity(slabs);
-        for &(z0, z1) in &slab_z {
-            let (head, tail) = rest.split_at_mut((z1 - z0) * nxy);
-            slab_counts.push((z0, z1, head));
+        let mut slab_counts = Vec::with_capacity(slabs.len());
+        for slab in &slabs {
+            let (head, tail) = rest.split_at_mut((slab.z1 - slab.z0) * nxy);
+            slab_counts.push((slab, head));
             rest = tail;
         }
         let ranges = &ranges;
         let slab_totals: Vec<(u64, u32, u64)> =
-            map_slabs(slab_counts, parallel, |(z0, z1, counts)| {
-                let lo = z0 * nxy;
-                for_each_ref(prims, g, ranges, exact, z0, z1, false, |c, _, _| {
+            map_slabs(slab_counts, parallel, |(slab, counts)| {
+                let lo = slab.z0 * nxy;
+                for_each_ref(prims, g, ranges, slab, exact, false, |c, _, _| {
                     counts[c - lo] += 1
                 });
                 // Local inclusive scan, with the slab's occupancy and largest cell.
@@ -156,17 +170,17 @@ pub(crate) fn build_dense<P: Primitive>(
             });
         // Slab bases, then add them (in parallel).
         let mut base = 0u32;
-        let mut bases = Vec::with_capacity(slabs);
+        let mut bases = Vec::with_capacity(slabs.len());
         for t in &slab_totals {
             bases.push(base);
             base += t.0 as u32;
         }
         offsets[cells] = base;
         let mut rest: &mut [u32] = &mut offsets[..cells];
-        let mut work = Vec::with_capacity(slabs);
-        for (s, &(z0, z1)) in slab_z.iter().enumerate() {
-            let (head, tail) = rest.split_at_mut((z1 - z0) * nxy);
-            work.push((bases[s], head));
+        let mut work = Vec::with_capacity(slabs.len());
+        for (slab, &b) in slabs.iter().zip(&bases) {
+            let (head, tail) = rest.split_at_mut((slab.z1 - slab.z0) * nxy);
+            work.push((b, head));
             rest = tail;
         }
         map_slabs(work, parallel, |(b, xs)| {
@@ -188,21 +202,21 @@ pub(crate) fn build_dense<P: Primitive>(
     {
         let mut rest_o: &mut [u32] = &mut offsets[..cells];
         let mut rest_r: &mut [u32] = &mut refs[..];
-        let mut work = Vec::with_capacity(slabs);
+        let mut work = Vec::with_capacity(slabs.len());
         let mut consumed = 0usize;
-        for &(z0, z1) in &slab_z {
-            let (oh, ot) = rest_o.split_at_mut((z1 - z0) * nxy);
+        for slab in &slabs {
+            let (oh, ot) = rest_o.split_at_mut((slab.z1 - slab.z0) * nxy);
             let end = oh.last().map_or(consumed, |&e| e as usize);
             let (rh, rt) = rest_r.split_at_mut(end - consumed);
-            work.push((z0, z1, oh, rh, consumed));
+            work.push((slab, oh, rh, consumed));
             consumed = end;
             rest_o = ot;
             rest_r = rt;
         }
         let ranges = &ranges;
-        map_slabs(work, parallel, |(z0, z1, offs, out, base)| {
-            let lo = z0 * nxy;
-            for_each_ref(prims, g, ranges, exact, z0, z1, true, |c, p, slot| {
+        map_slabs(work, parallel, |(slab, offs, out, base)| {
+            let lo = slab.z0 * nxy;
+            for_each_ref(prims, g, ranges, slab, exact, true, |c, p, slot| {
                 let o = &mut offs[c - lo];
                 *o -= 1;
                 out[*o as usize - base] = if renumber { slot } else { p };
@@ -228,6 +242,104 @@ pub(crate) fn build_dense<P: Primitive>(
     ))
 }
 
+/// A slab of whole z-layers `z0..z1` of cells, and the records that may
+/// have references in it: `before`, then `window` (positions in the sorted
+/// records).
+struct Slab {
+    z0: usize,
+    z1: usize,
+    window: Range<usize>,
+    /// The records of [`GENERAL`] ranges before the window (which may reach
+    /// any layer), in order.
+    before: Vec<usize>,
+}
+
+/// Splits the grid into slabs for counting and filling: one when
+/// sequential, else a few per worker, with about as many records each.
+///
+/// When the records are `sorted` by `first cell >> shift`, a slab's window
+/// holds just the records that can reach it: a range of at most two cells
+/// per axis starts at most one layer, one row and one cell before its
+/// cells. The rare [`GENERAL`] ranges, which may start anywhere before,
+/// are listed apart (`generals` of them). Unsorted records are all
+/// scanned by every slab, so then there is one slab per worker.
+fn slabs(
+    ranges: &[Record],
+    g: &Geom,
+    sorted: bool,
+    shift: u32,
+    generals: usize,
+    parallel: bool,
+) -> Vec<Slab> {
+    let [nx, ny, nz] = g.dims.map(|d| d as usize);
+    let nxy = nx * ny;
+    let cells = nxy * nz;
+    let threads = crate::par::threads(parallel);
+    let want = if sorted { threads * 4 } else { threads };
+    let count = want.min(nz).min(cells / (1 << 14)).max(1);
+    let all = |z0, z1| Slab {
+        z0,
+        z1,
+        window: 0..ranges.len(),
+        before: Vec::new(),
+    };
+    if count == 1 {
+        return vec![all(0, nz)];
+    }
+    if !sorted {
+        return (0..count)
+            .map(|s| {
+                let (z0, z1) = chunk_bounds(nz, count, s);
+                all(z0, z1)
+            })
+            .collect();
+    }
+    let first = |r: &Record| (r >> BASE_SHIFT) as usize;
+    let key = |r: &Record| first(r) >> shift;
+    // Cut where the records' first cells reach the quantiles' layers.
+    let mut cuts = Vec::with_capacity(count + 1);
+    cuts.push(0);
+    for s in 1..count {
+        let z = first(&ranges[ranges.len() * s / count]) / nxy;
+        cuts.push(z.max(cuts[s - 1]));
+    }
+    cuts.push(nz);
+    let general_at: Vec<usize> = if generals == 0 {
+        Vec::new()
+    } else {
+        (0..ranges.len())
+            .filter(|&i| (ranges[i] >> 32) & 0xf == GENERAL)
+            .collect()
+    };
+    cuts.windows(2)
+        .map(|w| {
+            let (lin0, lin1) = (w[0] * nxy, w[1] * nxy);
+            if lin0 == lin1 {
+                return Slab {
+                    z0: w[0],
+                    z1: w[1],
+                    window: 0..0,
+                    before: Vec::new(),
+                };
+            }
+            let lo = lin0.saturating_sub(nxy + nx + 1) >> shift;
+            let hi = (lin1 - 1) >> shift;
+            let start = ranges.partition_point(|r| key(r) < lo);
+            let end = ranges.partition_point(|r| key(r) <= hi);
+            Slab {
+                z0: w[0],
+                z1: w[1],
+                window: start..end,
+                before: general_at
+                    .iter()
+                    .copied()
+                    .take_while(|&i| i < start)
+                    .collect(),
+            }
+        })
+        .collect()
+}
+
 /// Runs `f` on every work item, in parallel when asked.
 fn map_slabs<W: Send, R: Send>(
     work: Vec<W>,
@@ -243,22 +355,26 @@ fn map_slabs<W: Send, R: Send>(
     work.into_iter().map(f).collect()
 }
 
-/// Calls `f(cell, prim, record)` for every reference whose cell lies in the
-/// z-layers `z0..z1`, in record order (reversed when `rev`).
+/// Calls `f(cell, prim, record)` for every reference whose cell lies in
+/// the slab, in record order (reversed when `rev`).
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn for_each_ref<P: Primitive>(
+fn for_each_ref<P: Primitive, F: FnMut(usize, u32, u32)>(
     prims: &[P],
     g: &Geom,
     ranges: &[Record],
+    slab: &Slab,
     exact: bool,
-    z0: usize,
-    z1: usize,
     rev: bool,
-    mut f: impl FnMut(usize, u32, u32),
+    mut f: F,
 ) {
     let [nx, ny, nz] = g.dims.map(|d| d as usize);
     let nxy = nx * ny;
+    let Slab {
+        z0,
+        z1,
+        ref window,
+        ref before,
+    } = *slab;
     // The slab as a range of row-major indices (whole layers).
     let (lin0, lin1) = (z0 * nxy, z1 * nxy);
     let whole = z0 == 0 && z1 == nz;
@@ -276,43 +392,80 @@ fn for_each_ref<P: Primitive>(
         }
         out
     });
-    let mut one = |(slot, &r): (usize, &Record)| {
+    let one = |slot: usize, r: Record, f: &mut F| {
         let slot = slot as u32;
         let prim = r as u32;
         let code = (r >> 32) & 0xf;
-        if code != GENERAL && !exact {
-            // The common case: no division, no bounds, one short loop.
-            let base = (r >> BASE_SHIFT) as usize;
-            for &o in &corners[code as usize][..1 << code.count_ones()] {
-                let c = base + o;
-                if whole || (lin0..lin1).contains(&c) {
-                    f(c, prim, slot);
-                }
-            }
+        if code == GENERAL || exact {
+            general(prims, g, exact, z0, z1, prim, &mut |c| f(c, prim, slot));
             return;
         }
-        let p = &prims[prim as usize];
-        let (lo, hi) = g.cell_range(&p.bounds());
-        let single = lo == hi;
-        let k0 = (lo[2] as usize).max(z0);
-        let k1 = (hi[2] as usize + 1).min(z1);
-        for k in k0..k1 {
-            for j in lo[1] as usize..hi[1] as usize + 1 {
-                for i in lo[0] as usize..hi[0] as usize + 1 {
-                    if exact
-                        && !single
-                        && !p.overlaps_box(&g.padded_cell_box([i as u32, j as u32, k as u32]))
-                    {
-                        continue;
-                    }
-                    f(k * nxy + j * nx + i, prim, slot);
-                }
+        // The common case: no division, no bounds, one short loop.
+        let base = (r >> BASE_SHIFT) as usize;
+        for &o in &corners[code as usize][..1 << code.count_ones()] {
+            let c = base + o;
+            if whole || (lin0..lin1).contains(&c) {
+                f(c, prim, slot);
             }
         }
     };
+    // A GENERAL range from before the window.
+    let far = |slot: usize, f: &mut F| {
+        let prim = ranges[slot] as u32;
+        general(prims, g, exact, z0, z1, prim, &mut |c| {
+            f(c, prim, slot as u32)
+        });
+    };
+    let first = window.start;
+    let window = &ranges[window.clone()];
     if rev {
-        ranges.iter().enumerate().rev().for_each(&mut one);
+        for (i, &r) in window.iter().enumerate().rev() {
+            one(first + i, r, &mut f);
+        }
+        for &slot in before.iter().rev() {
+            far(slot, &mut f);
+        }
     } else {
-        ranges.iter().enumerate().for_each(&mut one);
+        for &slot in before {
+            far(slot, &mut f);
+        }
+        for (i, &r) in window.iter().enumerate() {
+            one(first + i, r, &mut f);
+        }
+    }
+}
+
+/// [`for_each_ref`]'s general case (a large range, or exact insertion),
+/// out of line so that the common case's loop keeps its state in registers:
+/// calls `f` with every cell of primitive `prim` in the z-layers `z0..z1`.
+#[inline(never)]
+fn general<P: Primitive>(
+    prims: &[P],
+    g: &Geom,
+    exact: bool,
+    z0: usize,
+    z1: usize,
+    prim: u32,
+    f: &mut dyn FnMut(usize),
+) {
+    let [nx, ny, _] = g.dims.map(|d| d as usize);
+    let nxy = nx * ny;
+    let p = &prims[prim as usize];
+    let (lo, hi) = g.cell_range(&p.bounds());
+    let single = lo == hi;
+    let k0 = (lo[2] as usize).max(z0);
+    let k1 = (hi[2] as usize + 1).min(z1);
+    for k in k0..k1 {
+        for j in lo[1] as usize..hi[1] as usize + 1 {
+            for i in lo[0] as usize..hi[0] as usize + 1 {
+                if exact
+                    && !single
+                    && !p.overlaps_box(&g.padded_cell_box([i as u32, j as u32, k as u32]))
+                {
+                    continue;
+                }
+                f(k * nxy + j * nx + i);
+            }
+        }
     }
 }

@@ -167,9 +167,14 @@ fn huge_primitives_over_a_fine_grid_stay_bounded() {
     g.check_invariants().expect("invariants");
 }
 
+/// Builds sequentially and in parallel, with and without copies, in a pool
+/// of four workers (so the ranges come in several chunks and the dense
+/// build splits its cells into slabs, each with its own window of
+/// records), and checks that every cell holds the same primitives in the
+/// same order.
 #[test]
 fn parallel_and_sequential_builds_agree() {
-    let mut s: Vec<Shape> = scenes::suffern_spheres(20_000)
+    let mut s: Vec<Shape> = scenes::suffern_spheres(40_000)
         .into_iter()
         .map(Shape::Sphere)
         .collect();
@@ -178,54 +183,77 @@ fn parallel_and_sequential_builds_agree() {
             .into_iter()
             .map(Shape::Triangle),
     );
-    for storage in [CellStorage::Dense, CellStorage::Hashed] {
-        for exact_insertion in [false, true] {
-            let c = GridConfig {
-                storage,
-                exact_insertion,
-                ..GridConfig::default()
-            };
-            let a = Grid::build(
-                s.clone(),
-                &GridConfig {
+    // Ranges across many layers, first cells spread over the grid, and
+    // boxes that cannot be gridded in several chunks.
+    for (i, r) in [0.3, 0.5, 0.05, 0.8].into_iter().enumerate() {
+        let c = -0.9 + 0.5 * i as Real;
+        s.insert(
+            i * 10_000,
+            Shape::Sphere(Sphere::new(Vec3::new(c, -c, c), r)),
+        );
+        let nan = Vec3::new(c, Real::NAN, c);
+        s.insert(i * 10_000 + 7, Shape::Sphere(Sphere::new(nan, 0.1)));
+    }
+    let check = || {
+        for storage in [CellStorage::Dense, CellStorage::Hashed] {
+            for exact_insertion in [false, true] {
+                let c = GridConfig {
+                    storage,
+                    exact_insertion,
+                    m: 2.0,
+                    ..GridConfig::default()
+                };
+                let seq = GridConfig {
                     parallel_build: false,
                     ..c
-                },
-            );
-            let b = Grid::build(
-                s.clone(),
-                &GridConfig {
+                };
+                let par = GridConfig {
                     parallel_build: true,
                     ..c
-                },
-            );
-            a.check_invariants().expect("sequential");
-            b.check_invariants().expect("parallel");
-            let (sa, sb) = (a.stats(), b.stats());
-            assert_eq!(
-                (
-                    sa.dims,
-                    sa.references,
-                    sa.occupied_cells,
-                    sa.max_refs_per_cell
-                ),
-                (
-                    sb.dims,
-                    sb.references,
-                    sb.occupied_cells,
-                    sb.max_refs_per_cell
-                )
-            );
-            let d = a.dims();
-            for k in 0..d[2] {
-                for j in 0..d[1] {
-                    for i in 0..d[0] {
-                        assert_eq!(a.cell_refs([i, j, k]), b.cell_refs([i, j, k]));
+                };
+                let a = Grid::build(s.clone(), &seq);
+                for b in [
+                    Grid::build(s.clone(), &par),
+                    Grid::build_with_copies(s.clone(), &seq),
+                    Grid::build_with_copies(s.clone(), &par),
+                ] {
+                    let what = (storage, exact_insertion, b.has_copies());
+                    b.check_invariants().expect("invariants");
+                    let (sa, sb) = (a.stats(), b.stats());
+                    assert_eq!(
+                        (sa.dims, sa.references, sa.occupied_cells),
+                        (sb.dims, sb.references, sb.occupied_cells),
+                        "{what:?}"
+                    );
+                    assert_eq!(sa.max_refs_per_cell, sb.max_refs_per_cell);
+                    assert_eq!(a.unbounded_primitives(), b.unbounded_primitives());
+                    let d = a.dims();
+                    for k in 0..d[2] {
+                        for j in 0..d[1] {
+                            for i in 0..d[0] {
+                                let (mut ra, mut rb) =
+                                    (a.cell_refs([i, j, k]), b.cell_refs([i, j, k]));
+                                if b.has_copies() {
+                                    // Slot order, not primitive order.
+                                    ra.sort_unstable();
+                                    rb.sort_unstable();
+                                }
+                                assert_eq!(ra, rb, "cell {:?} {what:?}", [i, j, k]);
+                            }
+                        }
                     }
                 }
             }
         }
-    }
+    };
+    #[cfg(feature = "rayon")]
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(4)
+        .build()
+        .expect("a pool")
+        .install(check);
+    #[cfg(not(feature = "rayon"))]
+    check();
 }
 
 #[test]
