@@ -119,11 +119,11 @@ pub(crate) fn build_dense<P: Primitive>(
     // Order the records by the run of 2^shift row-major cells their first
     // cell is in (one stable radix pass of at most 12 bits): counting and
     // filling then sweep the offsets nearly in order. Slots follow the
-    // record order, so for them the order is exact (more passes).
+    // record order, so for them each run is then sorted by first cell too.
     let cell_bits = 64 - (cells as u64).leading_zeros();
-    let key_bits: u32 = if renumber { cell_bits } else { 12 };
-    let shift = cell_bits.saturating_sub(key_bits);
-    if cell_bits > shift && packable {
+    let shift = cell_bits.saturating_sub(12);
+    let sorted = packable && cell_bits > shift;
+    if sorted {
         let mut tmp = Vec::new();
         radix::sort_by_key(
             &mut ranges,
@@ -132,9 +132,10 @@ pub(crate) fn build_dense<P: Primitive>(
             |r: &Record| r >> (BASE_SHIFT + shift),
             parallel,
         );
+        if renumber && shift > 0 {
+            sort_runs(&mut ranges, shift, parallel);
+        }
     }
-
-    let sorted = packable && cell_bits > shift;
     let slabs = slabs(&ranges, g, sorted, shift, generals, parallel);
 
     // Count (per slab), then an inclusive prefix sum: offsets[c] = end of cell c.
@@ -340,6 +341,74 @@ fn slabs(
         .collect()
 }
 
+/// Sorts each run of records with the same `first cell >> shift` by first
+/// cell, stably (so equal first cells stay in primitive order). The runs
+/// are short (a few hundred records over `2^shift` cells), so each is
+/// sorted in cache by counting, or by comparison when its cells far
+/// outnumber its records.
+fn sort_runs(ranges: &mut [Record], shift: u32, parallel: bool) {
+    let run = |r: &Record| r >> (BASE_SHIFT + shift);
+    let cell = |r: &Record| ((r >> BASE_SHIFT) & ((1 << shift) - 1)) as usize;
+    // Chunks of whole runs: each nominal start moves up to a run's start.
+    let len = ranges.len();
+    let chunks = chunk_count(len, parallel, 1 << 16);
+    let mut starts: Vec<usize> = (0..chunks)
+        .map(|c| {
+            let mut i = chunk_bounds(len, chunks, c).0;
+            while i > 0 && i < len && run(&ranges[i]) == run(&ranges[i - 1]) {
+                i += 1;
+            }
+            i
+        })
+        .collect();
+    starts.push(len);
+    let mut parts = Vec::with_capacity(chunks);
+    let mut rest = ranges;
+    for w in starts.windows(2) {
+        let (head, tail) = rest.split_at_mut(w[1].max(w[0]) - w[0]);
+        parts.push(head);
+        rest = tail;
+    }
+    map_slabs(parts, parallel, |part| {
+        let buckets = 1usize << shift;
+        let mut counts = Vec::new();
+        let mut tmp: Vec<Record> = Vec::new();
+        let mut i = 0;
+        while i < part.len() {
+            let key = run(&part[i]);
+            let n = part[i..]
+                .iter()
+                .position(|r| run(r) != key)
+                .unwrap_or(part.len() - i);
+            let group = &mut part[i..i + n];
+            i += n;
+            if n < 2 {
+                continue;
+            }
+            if buckets > 8 * n {
+                group.sort_by_key(cell);
+                continue;
+            }
+            counts.clear();
+            counts.resize(buckets + 1, 0u32);
+            for r in group.iter() {
+                counts[cell(r) + 1] += 1;
+            }
+            for b in 1..=buckets {
+                counts[b] += counts[b - 1];
+            }
+            tmp.clear();
+            tmp.resize(n, 0);
+            for &r in group.iter() {
+                let slot = &mut counts[cell(&r)];
+                tmp[*slot as usize] = r;
+                *slot += 1;
+            }
+            group.copy_from_slice(&tmp);
+        }
+    });
+}
+
 /// Runs `f` on every work item, in parallel when asked.
 fn map_slabs<W: Send, R: Send>(
     work: Vec<W>,
@@ -465,6 +534,42 @@ fn general<P: Primitive>(
                     continue;
                 }
                 f(k * nxy + j * nx + i);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Records sorted by run (as after the radix pass), then by `sort_runs`,
+    /// equal a stable sort by first cell; runs both dense (counting) and
+    /// sparse (comparison), in one chunk and in several.
+    #[test]
+    fn sort_runs_sorts_each_run_stably_by_first_cell() {
+        let mut s = 9u64;
+        let mut next = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            s >> 33
+        };
+        for (n, cell_bits, shift) in [
+            (50_000usize, 18u32, 6u32),
+            (3_000, 24, 14),
+            (200_000, 21, 9),
+        ] {
+            let mut v: Vec<Record> = (0..n as u32)
+                .map(|p| record(p, next() % 8, (next() % (1 << cell_bits)) as usize))
+                .collect();
+            v.sort_by_key(|r| r >> (BASE_SHIFT + shift));
+            let mut want = v.clone();
+            want.sort_by_key(|r| r >> BASE_SHIFT);
+            for parallel in [false, true] {
+                let mut got = v.clone();
+                sort_runs(&mut got, shift, parallel);
+                assert_eq!(got, want, "n = {n}, shift = {shift}, parallel = {parallel}");
             }
         }
     }
