@@ -50,7 +50,7 @@ fn options(accel: AccelKind, grid: GridConfig, threads: usize) -> RenderOptions 
 /// The renderer's error as text (none expected for this scene).
 pub fn grid_run(n: usize, config: GridConfig, threads: usize) -> Result<GridRun, String> {
     let base = suffern::base_scene();
-    let (set, generate) = timed(|| suffern::sphere_set(n, DEFAULT_SEED));
+    let (set, generate) = timed(|| suffern::sphere_set_threads(n, DEFAULT_SEED, threads));
     let (renderer, build) =
         timed(|| Renderer::with_spheres(&base, set, &options(AccelKind::Grid, config, threads)));
     let renderer = renderer.map_err(|e| e.to_string())?;

@@ -170,33 +170,49 @@ pub fn spheres(n: usize, seed: u64) -> Vec<RandomSphere> {
 /// 8–10 less; the rest is writing 28 MB of fresh memory).
 #[must_use]
 pub fn sphere_set(n: usize, seed: u64) -> SphereSet {
+    sphere_set_threads(n, seed, 1)
+}
+
+/// [`sphere_set`] on up to `threads` threads, each drawing its share of
+/// the spheres from its own [`Lcg::skip`] start: the same set whatever the
+/// thread count.
+///
+/// ```
+/// use gridrt_tracer::suffern::{sphere_set, sphere_set_threads};
+/// let (a, b) = (sphere_set(1000, 15), sphere_set_threads(1000, 15, 3));
+/// assert_eq!(a.spheres, b.spheres);
+/// assert_eq!(a.colors, b.colors);
+/// ```
+#[must_use]
+pub fn sphere_set_threads(n: usize, seed: u64, threads: usize) -> SphereSet {
     let radius = sphere_radius(n.max(1)) as Real;
-    let share = n.div_ceil(LANES);
-    let mut lanes: [Lcg; LANES] = std::array::from_fn(|l| {
-        let mut rng = Lcg::new(seed);
-        rng.skip(6 * (l * share) as u64);
-        rng
-    });
+    // Below this many spheres per thread a thread costs more than it saves.
+    const MIN_SHARE: usize = 1 << 15;
+    let parts = threads.min(n / MIN_SHARE).max(1);
     let mut spheres: Vec<Sphere> = gridrt_grid::mem::with_capacity(n);
     let mut colors: Vec<Rgb> = gridrt_grid::mem::with_capacity(n);
     {
-        let (s, c) = (
+        let (mut s, mut c) = (
             &mut spheres.spare_capacity_mut()[..n],
             &mut colors.spare_capacity_mut()[..n],
         );
-        for i in 0..share {
-            for (l, rng) in lanes.iter_mut().enumerate() {
-                let k = l * share + i;
-                if k < n {
-                    let (center, color) = rng.sphere();
-                    s[k].write(Sphere::new(center, radius));
-                    c[k].write(color);
+        std::thread::scope(|scope| {
+            for p in 0..parts {
+                let (start, end) = (n * p / parts, n * (p + 1) / parts);
+                let (sp, st) = std::mem::take(&mut s).split_at_mut(end - start);
+                let (cp, ct) = std::mem::take(&mut c).split_at_mut(end - start);
+                (s, c) = (st, ct);
+                let mut fill = move || draw(seed, start, radius, sp, cp);
+                if p + 1 == parts {
+                    fill();
+                } else {
+                    scope.spawn(fill);
                 }
             }
-        }
+        });
     }
-    // SAFETY: the lanes cover `0..n` (lane l writes l·share .. (l+1)·share,
-    // cut at n), so all n elements of both vectors were written above.
+    // SAFETY: the parts cover `0..n` and `draw` writes every element of
+    // its part of both vectors.
     unsafe {
         spheres.set_len(n);
         colors.set_len(n);
@@ -205,6 +221,35 @@ pub fn sphere_set(n: usize, seed: u64) -> SphereSet {
         spheres,
         colors,
         material: 0,
+    }
+}
+
+/// Writes spheres `start..start + s.len()` of the sequence into `s` and
+/// their colours into `c` (of the same length), in [`LANES`] interleaved
+/// lanes.
+fn draw(
+    seed: u64,
+    start: usize,
+    radius: Real,
+    s: &mut [std::mem::MaybeUninit<Sphere>],
+    c: &mut [std::mem::MaybeUninit<Rgb>],
+) {
+    let n = s.len();
+    let share = n.div_ceil(LANES);
+    let mut lanes: [Lcg; LANES] = std::array::from_fn(|l| {
+        let mut rng = Lcg::new(seed);
+        rng.skip(6 * (start + l * share) as u64);
+        rng
+    });
+    for i in 0..share {
+        for (l, rng) in lanes.iter_mut().enumerate() {
+            let k = l * share + i;
+            if k < n {
+                let (center, color) = rng.sphere();
+                s[k].write(Sphere::new(center, radius));
+                c[k].write(color);
+            }
+        }
     }
 }
 
@@ -222,14 +267,17 @@ pub fn base_scene() -> Scene {
 }
 
 /// The benchmark prepared for rendering the fast way: [`base_scene`] plus
-/// [`sphere_set`], a grid of compact spheres and one colour per sphere, no
+/// [`sphere_set_threads`] (on the options' threads), a grid of compact spheres and one colour per sphere, no
 /// `Object` per sphere. Renders the same image as [`scene`] does.
 ///
 /// # Errors
 /// None in practice (the scene is valid); the signature is that of
 /// [`Renderer::with_spheres`].
 pub fn renderer(n: usize, seed: u64, options: &RenderOptions) -> Result<Renderer, SceneError> {
-    Renderer::with_spheres(&base_scene(), sphere_set(n, seed), options)
+    let threads = options
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    Renderer::with_spheres(&base_scene(), sphere_set_threads(n, seed, threads), options)
 }
 
 fn matte(color: Rgb) -> Material {
@@ -335,10 +383,24 @@ mod tests {
 
     #[test]
     fn the_interleaved_set_is_the_sequence() {
-        for n in [0usize, 1, 2, 3, 4, 5, 7, 8, 9, 1001] {
-            let set = sphere_set(n, DEFAULT_SEED);
+        for (n, threads) in [
+            (0usize, 1usize),
+            (1, 1),
+            (2, 1),
+            (3, 1),
+            (4, 1),
+            (5, 1),
+            (7, 1),
+            (8, 1),
+            (9, 1),
+            (1001, 1),
+            (1001, 4),
+            (100_003, 3),
+        ] {
+            let set = sphere_set_threads(n, DEFAULT_SEED, threads);
             let want = spheres(n, DEFAULT_SEED);
             assert_eq!(set.spheres.len(), n);
+            assert_eq!(set.colors.len(), n);
             for (k, w) in want.iter().enumerate() {
                 assert_eq!(set.spheres[k].center, w.center, "n = {n}, sphere {k}");
                 assert_eq!(set.spheres[k].radius, w.radius);
