@@ -365,7 +365,8 @@ fn sort_runs(ranges: &mut [Record], shift: u32, parallel: bool) {
     let mut parts = Vec::with_capacity(chunks);
     let mut rest = ranges;
     for w in starts.windows(2) {
-        let (head, tail) = rest.split_at_mut(w[1].max(w[0]) - w[0]);
+        // The first run start at or after a nominal start never decreases.
+        let (head, tail) = rest.split_at_mut(w[1] - w[0]);
         parts.push(head);
         rest = tail;
     }
