@@ -462,14 +462,20 @@ fn for_each_ref<P: Primitive, F: FnMut(usize, u32, u32)>(
         }
         out
     });
+    // A record through the general case, out of line.
+    let far = |slot: usize, prim: u32, f: &mut F| {
+        general(prims, g, exact, z0, z1, prim, &mut |c| {
+            f(c, prim, slot as u32)
+        });
+    };
     let one = |slot: usize, r: Record, f: &mut F| {
-        let slot = slot as u32;
         let prim = r as u32;
         let code = (r >> 32) & 0xf;
         if code == GENERAL || exact {
-            general(prims, g, exact, z0, z1, prim, &mut |c| f(c, prim, slot));
+            far(slot, prim, f);
             return;
         }
+        let slot = slot as u32;
         // The common case: no division, no bounds, one short loop.
         let base = (r >> BASE_SHIFT) as usize;
         for &o in &corners[code as usize][..1 << code.count_ones()] {
@@ -479,13 +485,6 @@ fn for_each_ref<P: Primitive, F: FnMut(usize, u32, u32)>(
             }
         }
     };
-    // A GENERAL range from before the window.
-    let far = |slot: usize, f: &mut F| {
-        let prim = ranges[slot] as u32;
-        general(prims, g, exact, z0, z1, prim, &mut |c| {
-            f(c, prim, slot as u32)
-        });
-    };
     let first = window.start;
     let window = &ranges[window.clone()];
     if rev {
@@ -493,11 +492,11 @@ fn for_each_ref<P: Primitive, F: FnMut(usize, u32, u32)>(
             one(first + i, r, &mut f);
         }
         for &slot in before.iter().rev() {
-            far(slot, &mut f);
+            far(slot, ranges[slot] as u32, &mut f);
         }
     } else {
         for &slot in before {
-            far(slot, &mut f);
+            far(slot, ranges[slot] as u32, &mut f);
         }
         for (i, &r) in window.iter().enumerate() {
             one(first + i, r, &mut f);

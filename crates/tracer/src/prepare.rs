@@ -330,25 +330,25 @@ fn check_set(scene: &Scene, set: &SphereSet) -> Result<(), SceneError> {
             spheres: set.spheres.len(),
         });
     }
-    // One branch-free pass over a million spheres; the loop below, which
-    // names the first bad one, runs only when there is one.
-    let all_ok = set.spheres.iter().fold(true, |ok, s| {
-        let c = s.center;
-        ok & c.x.is_finite()
-            & c.y.is_finite()
-            & c.z.is_finite()
-            & (s.radius > 0.0)
-            & s.radius.is_finite()
-    });
-    if !all_ok {
+    // Branch-free tests (`&`, not `&&`), so that one pass over a million
+    // spheres vectorises; the loop naming the first bad one runs only when
+    // there is one.
+    let center_ok =
+        |s: &Sphere| s.center.x.is_finite() & s.center.y.is_finite() & s.center.z.is_finite();
+    let radius_ok = |s: &Sphere| (s.radius > 0.0) & s.radius.is_finite();
+    if !set
+        .spheres
+        .iter()
+        .fold(true, |ok, s| ok & center_ok(s) & radius_ok(s))
+    {
         for (i, s) in set.spheres.iter().enumerate() {
-            if !s.center.is_finite() {
+            if !center_ok(s) {
                 return Err(SceneError::NotFinite {
                     object: object + i,
                     what: "sphere centre",
                 });
             }
-            if !(s.radius > 0.0 && s.radius.is_finite()) {
+            if !radius_ok(s) {
                 return Err(SceneError::BadRadius {
                     object: object + i,
                     radius: to_f64(s.radius),

@@ -99,8 +99,11 @@ impl Lcg {
         self.state = acc_mul.wrapping_mul(self.state).wrapping_add(acc_add);
     }
 
-    /// One sphere's draws: the colour (r, g, b), then the centre
-    /// `x, y, z = 1 − 2u`, in that order, in `f32`.
+    /// The draws of one sphere ([`Lcg::sphere`]).
+    const SPHERE_DRAWS: u64 = 6;
+
+    /// One sphere's [`Lcg::SPHERE_DRAWS`] draws: the colour (r, g, b), then
+    /// the centre `x, y, z = 1 − 2u`, in that order, in `f32`.
     #[inline]
     fn sphere(&mut self) -> (Vec3, Rgb) {
         let r = self.next_f32();
@@ -238,7 +241,7 @@ fn draw(
     let share = n.div_ceil(LANES);
     let mut lanes: [Lcg; LANES] = std::array::from_fn(|l| {
         let mut rng = Lcg::new(seed);
-        rng.skip(6 * (start + l * share) as u64);
+        rng.skip(Lcg::SPHERE_DRAWS * (start + l * share) as u64);
         rng
     });
     for i in 0..share {
@@ -267,8 +270,9 @@ pub fn base_scene() -> Scene {
 }
 
 /// The benchmark prepared for rendering the fast way: [`base_scene`] plus
-/// [`sphere_set_threads`] (on the options' threads), a grid of compact spheres and one colour per sphere, no
-/// `Object` per sphere. Renders the same image as [`scene`] does.
+/// [`sphere_set_threads`] (on the options' threads), a grid of compact
+/// spheres and one colour per sphere, no `Object` per sphere. Renders the
+/// same image as [`scene`] does.
 ///
 /// # Errors
 /// None in practice (the scene is valid); the signature is that of
