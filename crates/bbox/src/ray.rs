@@ -7,6 +7,9 @@ use crate::math::{Real, Vec3};
 /// component (of either sign) gives an infinite reciprocal of the same sign,
 /// which the slab test and the grid traversal handle on purpose.
 ///
+/// The frame of the watertight ray–triangle test ([`Shear`]) is computed
+/// once here too, so that a triangle test does no per-ray work.
+///
 /// The valid `t` range is not part of the ray: queries take it as arguments
 /// (pbrt's `Intersect(ray, tMax)`), so one ray can be reused across ranges.
 ///
@@ -17,7 +20,11 @@ use crate::math::{Real, Vec3};
 /// assert_eq!(r.inv_dir.z, gridrt_bbox::Real::NEG_INFINITY);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(from = "RayParts", into = "RayParts")
+)]
 pub struct Ray {
     /// Where the ray starts (t = 0).
     pub origin: Vec3,
@@ -25,6 +32,83 @@ pub struct Ray {
     pub dir: Vec3,
     /// `1 / dir`, per component, with IEEE semantics (`1/±0 = ±∞`).
     pub inv_dir: Vec3,
+    /// The frame of the watertight triangle test.
+    pub shear: Shear,
+}
+
+/// The ray's frame for the watertight ray–triangle test of Woop, Benthin &
+/// Wald ("Watertight Ray/Triangle Intersection", JCGT 2013), in which the
+/// ray runs along +z: the axes are permuted so that the largest direction
+/// component becomes z, and x, y are sheared so that the direction has none:
+/// with `(x, y, z)` the permuted `p − origin`, a point `p` sits at
+/// `(x − sx·z, y − sy·z, sz·z)`, and the ray's points at `(0, 0, t)`.
+///
+/// ```
+/// use gridrt_bbox::{Ray, Vec3};
+/// let r = Ray::new(Vec3::ZERO, Vec3::new(1.0, -4.0, 2.0));
+/// // y is the largest and negative: it becomes z, and x, y swap to keep the winding.
+/// assert_eq!(r.shear.axes, [0, 2, 1]);
+/// assert_eq!(r.shear.s, [-0.25, -0.5, -0.25]);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shear {
+    /// `[kx, ky, kz]`: `kz` is the axis of the largest `|dir|` component (the
+    /// later axis on ties), `kx`, `ky` the next two in cyclic order, swapped
+    /// when `dir[kz] < 0` so that the triangles' winding is kept.
+    pub axes: [usize; 3],
+    /// `[dir[kx]·sz, dir[ky]·sz, sz]` with `sz = 1 / dir[kz]`.
+    pub s: [Real; 3],
+}
+
+impl Shear {
+    fn new(dir: Vec3, inv_dir: Vec3) -> Self {
+        let a = dir.abs();
+        let kz = if a.x > a.y {
+            if a.x > a.z {
+                0
+            } else {
+                2
+            }
+        } else if a.y > a.z {
+            1
+        } else {
+            2
+        };
+        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        if dir[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let sz = inv_dir[kz];
+        Self {
+            axes: [kx, ky, kz],
+            s: [dir[kx] * sz, dir[ky] * sz, sz],
+        }
+    }
+}
+
+/// What a [`Ray`] is serialised as: the rest is derived from it.
+#[cfg(feature = "serde")]
+#[derive(serde::Serialize, serde::Deserialize)]
+struct RayParts {
+    origin: Vec3,
+    dir: Vec3,
+}
+
+#[cfg(feature = "serde")]
+impl From<RayParts> for Ray {
+    fn from(p: RayParts) -> Self {
+        Self::new(p.origin, p.dir)
+    }
+}
+
+#[cfg(feature = "serde")]
+impl From<Ray> for RayParts {
+    fn from(r: Ray) -> Self {
+        Self {
+            origin: r.origin,
+            dir: r.dir,
+        }
+    }
 }
 
 impl Ray {
@@ -41,10 +125,12 @@ impl Ray {
     #[inline]
     #[must_use]
     pub fn new(origin: Vec3, dir: Vec3) -> Self {
+        let inv_dir = Vec3::ONE / dir;
         Self {
             origin,
             dir,
-            inv_dir: Vec3::ONE / dir,
+            inv_dir,
+            shear: Shear::new(dir, inv_dir),
         }
     }
 
@@ -82,6 +168,44 @@ mod tests {
         let r = Ray::new(Vec3::ZERO, Vec3::new(tiny, -tiny, 1.0));
         assert_eq!(r.inv_dir.x, Real::INFINITY);
         assert_eq!(r.inv_dir.y, Real::NEG_INFINITY);
+    }
+
+    /// `p` in the shear frame, as the watertight triangle test computes it.
+    fn sheared(r: &Ray, p: Vec3) -> [Real; 3] {
+        let [kx, ky, kz] = r.shear.axes;
+        let [sx, sy, sz] = r.shear.s;
+        let d = p - r.origin;
+        [d[kx] - sx * d[kz], d[ky] - sy * d[kz], sz * d[kz]]
+    }
+
+    #[test]
+    fn shear_puts_the_ray_on_the_z_axis_and_keeps_the_winding() {
+        let dirs = [
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::new(-3.0, 1.0, 2.0),
+            Vec3::new(0.5, -4.0, 0.25),
+            Vec3::new(0.0, -0.0, -2.0),
+            Vec3::new(-1.0, 0.0, 0.0),
+            // Ties go to the later axis.
+            Vec3::new(2.0, 2.0, -2.0),
+        ];
+        for d in dirs {
+            let r = Ray::new(Vec3::new(0.5, -1.5, 2.0), d);
+            let [kx, ky, kz] = r.shear.axes;
+            let mut k = r.shear.axes;
+            k.sort_unstable();
+            assert_eq!(k, [0, 1, 2], "{d}: not a permutation");
+            assert!(d.abs().max_element() == d[kz].abs(), "{d}: kz = {kz}");
+            // Points on the ray (exact multiples here) land on +z at t.
+            for t in [0.0, 0.5, 2.0, 8.0] {
+                assert_eq!(sheared(&r, r.at(t)), [0.0, 0.0, t], "{d} at {t}");
+            }
+            // A right-handed frame: the unit vectors of kx and ky, taken
+            // as a triangle with the origin, keep their orientation.
+            let (ex, ey) = (Vec3::AXES[kx], Vec3::AXES[ky]);
+            let ez = ex.cross(ey);
+            assert_eq!(ez.dot(d).signum(), 1.0, "{d}: winding flipped");
+        }
     }
 
     #[test]

@@ -242,6 +242,12 @@ fn main() {
     if let Some(m) = std::env::var("SUFFERN_M").ok().and_then(|s| s.parse().ok()) {
         base.m = m;
     }
+    if let Some(n) = std::env::var("SUFFERN_NEST")
+        .ok()
+        .and_then(|s| s.parse().ok())
+    {
+        base.nest_min_refs = n;
+    }
     header();
     if has("spheres") {
         for &n in &ns() {
@@ -405,6 +411,15 @@ fn main() {
                     print_row("mesh", &c, &measure(&tris, &rays, &c, 5));
                 }
             }
+        }
+    }
+    if has("meshcopies") {
+        // The mesh with its triangles copied into cell order.
+        let tris = scenes::uv_sphere_mesh(&scenes::suffern_spheres(1000), 32, 17);
+        for m in [1.25, 2.0, 3.0] {
+            let c = GridConfig { m, ..base };
+            let r = measure_with(&tris, &rays, &c, 5, Grid::build_with_copies);
+            print_row("meshcopy", &c, &r);
         }
     }
     if has("meshnest") {

@@ -649,8 +649,9 @@ fn random_rays<P: Primitive + Clone + std::fmt::Debug>(
 fn translate(s: Shape, by: Vec3) -> Shape {
     match s {
         Shape::Sphere(p) => Shape::Sphere(Sphere::new(p.center + by, p.radius)),
-        Shape::Triangle(t) => Shape::Triangle(Triangle {
-            v: t.v.map(|p| p + by),
-        }),
+        Shape::Triangle(t) => {
+            let [a, b, c] = t.vertices().map(|p| p + by);
+            Shape::Triangle(Triangle::new(a, b, c))
+        }
     }
 }

@@ -83,90 +83,85 @@ impl Primitive for Sphere {
 }
 
 /// A triangle with the watertight intersection of Woop, Benthin & Wald,
-/// "Watertight Ray/Triangle Intersection" (JCGT 2013): the ray is sheared so
-/// that it runs along +z, and the edge functions are evaluated in 2D (in f64
-/// when one comes out exactly 0), so a ray through a shared edge or vertex
-/// hits exactly one of the triangles around it, or all of them at the same t.
+/// "Watertight Ray/Triangle Intersection" (JCGT 2013), as the tracer's
+/// triangle does it: the vertices, stored coordinate by coordinate, are moved
+/// in 4-lane vectors into the ray's shear frame (where it runs along +z), and
+/// the edge functions are evaluated in 2D (in f64 when one comes out exactly
+/// 0), so a ray through a shared edge or vertex hits exactly one of the
+/// triangles around it, or all of them at the same t.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
-    /// The three vertices.
-    pub v: [Vec3; 3],
+    /// `x0 x1 x2 y0 y1 y2 z0 z1 z2 0`.
+    c: [Real; 10],
 }
+
+#[cfg(not(feature = "f64"))]
+type Lanes = glam::Vec4;
+#[cfg(feature = "f64")]
+type Lanes = glam::DVec4;
 
 impl Triangle {
     /// A triangle from its vertices.
     pub fn new(a: Vec3, b: Vec3, c: Vec3) -> Self {
-        Self { v: [a, b, c] }
+        Self {
+            c: [a.x, b.x, c.x, a.y, b.y, c.y, a.z, b.z, c.z, 0.0],
+        }
+    }
+
+    /// The three vertices.
+    pub fn vertices(&self) -> [Vec3; 3] {
+        let c = &self.c;
+        [0, 1, 2].map(|i| Vec3::new(c[i], c[3 + i], c[6 + i]))
+    }
+
+    /// Coordinate `k` of the three vertices in lanes 0..3.
+    #[inline(always)]
+    fn lanes(&self, k: usize) -> Lanes {
+        Lanes::from_slice(&self.c[3 * k..3 * k + 4])
     }
 }
 
 impl Primitive for Triangle {
     #[inline(always)]
     fn bounds(&self) -> Aabb {
-        Aabb::new(
-            self.v[0].min(self.v[1]).min(self.v[2]),
-            self.v[0].max(self.v[1]).max(self.v[2]),
-        )
+        let [a, b, c] = self.vertices();
+        Aabb::new(a.min(b).min(c), a.max(b).max(c))
     }
 
     #[inline(always)]
     fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
-        let d = ray.dir.to_array();
-        let ad = ray.dir.abs();
-        // The dimension where the direction is largest becomes z.
-        let kz = if ad.x > ad.y {
-            if ad.x > ad.z {
-                0
-            } else {
-                2
-            }
-        } else if ad.y > ad.z {
-            1
-        } else {
-            2
-        };
-        let mut kx = if kz == 2 { 0 } else { kz + 1 };
-        let mut ky = if kx == 2 { 0 } else { kx + 1 };
-        // Keep the winding: swap when the z direction is negative.
-        if d[kz] < 0.0 {
-            std::mem::swap(&mut kx, &mut ky);
-        }
-        let sz = ray.inv_dir[kz];
-        let sx = d[kx] * sz;
-        let sy = d[ky] * sz;
-        let o = ray.origin;
-        let a = (self.v[0] - o).to_array();
-        let b = (self.v[1] - o).to_array();
-        let c = (self.v[2] - o).to_array();
-        let ax = a[kx] - sx * a[kz];
-        let ay = a[ky] - sy * a[kz];
-        let bx = b[kx] - sx * b[kz];
-        let by = b[ky] - sy * b[kz];
-        let cx = c[kx] - sx * c[kz];
-        let cy = c[ky] - sy * c[kz];
-        let mut u = cx * by - cy * bx;
-        let mut v = ax * cy - ay * cx;
-        let mut w = bx * ay - by * ax;
+        use glam::Vec4Swizzles;
+        let [kx, ky, kz] = ray.shear.axes;
+        let [sx, sy, sz] = ray.shear.s;
+        let o: &[Real; 3] = ray.origin.as_ref();
+        let z = self.lanes(kz) - Lanes::splat(o[kz]);
+        let x = (self.lanes(kx) - Lanes::splat(o[kx])) - Lanes::splat(sx) * z;
+        let y = (self.lanes(ky) - Lanes::splat(o[ky])) - Lanes::splat(sy) * z;
+        // Lanes 0, 1, 2: cx·by − cy·bx, ax·cy − ay·cx, bx·ay − by·ax.
+        let mut e = x.zxyw() * y.yzxw() - y.zxyw() * x.yzxw();
+        let any3 = |mask: u32| mask & 7 != 0;
         // Exactly on an edge: redo the edge functions in double precision.
-        if u == 0.0 || v == 0.0 || w == 0.0 {
-            let (ax, ay, bx, by, cx, cy) = (
-                ax as f64, ay as f64, bx as f64, by as f64, cx as f64, cy as f64,
+        if any3(e.cmpeq(Lanes::ZERO).bitmask()) {
+            let [ax, bx, cx, _] = x.to_array().map(|r| r as f64);
+            let [ay, by, cy, _] = y.to_array().map(|r| r as f64);
+            e = Lanes::new(
+                (cx * by - cy * bx) as Real,
+                (ax * cy - ay * cx) as Real,
+                (bx * ay - by * ax) as Real,
+                0.0,
             );
-            u = (cx * by - cy * bx) as Real;
-            v = (ax * cy - ay * cx) as Real;
-            w = (bx * ay - by * ax) as Real;
         }
         // One branch for "signs differ" (the common miss).
-        let neg = (u < 0.0) | (v < 0.0) | (w < 0.0);
-        let pos = (u > 0.0) | (v > 0.0) | (w > 0.0);
-        if neg & pos {
+        if any3(e.cmplt(Lanes::ZERO).bitmask()) && any3(e.cmpgt(Lanes::ZERO).bitmask()) {
             return None;
         }
+        let [u, v, w, _] = e.to_array();
         let det = u + v + w;
         if det == 0.0 || !det.is_finite() {
             return None;
         }
-        let t_scaled = sz * (u * a[kz] + v * b[kz] + w * c[kz]);
+        let [az, bz, cz, _] = z.to_array();
+        let t_scaled = sz * (u * az + v * bz + w * cz);
         let inv = 1.0 / det;
         let t = t_scaled * inv;
         if !(t >= t_min && t <= t_max) {
@@ -188,7 +183,7 @@ impl Primitive for Triangle {
         }
         let c = cell.centroid();
         let h = (cell.max - cell.min) * 0.5;
-        let v = self.v.map(|p| p - c);
+        let v = self.vertices().map(|p| p - c);
         let e = [v[1] - v[0], v[2] - v[1], v[0] - v[2]];
         let scale = v
             .iter()

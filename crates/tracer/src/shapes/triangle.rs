@@ -5,14 +5,20 @@ use gridrt_grid::{PrimHit, Primitive};
 /// A triangle given by its three vertices (counter-clockwise = front).
 ///
 /// The ray test is **watertight** (Woop, Benthin & Wald, "Watertight
-/// Ray/Triangle Intersection", JCGT 2013): the vertices are moved into a
-/// frame where the ray is the +z axis (translate, permute so that the
-/// largest direction component is z, shear), and the three 2D edge
-/// functions decide the hit by their signs. A ray through an edge or vertex
-/// shared by two triangles hits at least one of them, because both see the
-/// same edge function, bit for bit. When an edge function is exactly 0 in
-/// `f32`, it is recomputed in `f64`, where the products are exact, so its
-/// sign is right. Degenerate triangles (zero area) never hit and give no NaN.
+/// Ray/Triangle Intersection", JCGT 2013): the vertices are moved into the
+/// ray's [`Shear`](gridrt_bbox::Shear) frame, where the ray is the +z axis
+/// (translate, permute so that the largest direction component is z,
+/// shear), and the three 2D edge functions decide the hit by their signs. A
+/// ray through an edge or vertex shared by two triangles hits at least one
+/// of them, because both see the same edge function, bit for bit. When an
+/// edge function is exactly 0 in `f32`, it is recomputed in `f64`, where the
+/// products are exact, so its sign is right. Degenerate triangles (zero
+/// area) never hit and give no NaN.
+///
+/// The vertices are stored coordinate by coordinate (the three x, the
+/// three y, the three z), so that the test transforms all three vertices at
+/// once in 4-lane vectors: one load, subtraction and shear per coordinate,
+/// and the three edge functions in one vector product.
 ///
 /// A hit reports barycentrics `u`, `v`: the weights of `p1` and `p2` (the
 /// hit point is `(1 − u − v)·p0 + u·p1 + v·p2`). Hits within the rounding
@@ -26,30 +32,45 @@ use gridrt_grid::{PrimHit, Primitive};
 /// let ray = Ray::new(Vec3::new(0.25, 0.5, 1.0), -Vec3::Z);
 /// let h = tri.closest_hit(&ray, 0.0, Real::INFINITY).unwrap();
 /// assert_eq!((h.t, h.u, h.v), (1.0, 0.25, 0.5));
+/// assert_eq!(tri.vertices(), [Vec3::ZERO, Vec3::X, Vec3::Y]);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
-    /// First vertex.
-    pub p0: Vec3,
-    /// Second vertex (barycentric `u`).
-    pub p1: Vec3,
-    /// Third vertex (barycentric `v`).
-    pub p2: Vec3,
+    /// `x0 x1 x2 y0 y1 y2 z0 z1 z2 0`: every coordinate's three values
+    /// start a 4-lane load (the last one's fourth lane is the padding).
+    c: [Real; 10],
 }
+
+/// Four lanes of [`Real`].
+#[cfg(not(feature = "f64"))]
+type Lanes = glam::Vec4;
+#[cfg(feature = "f64")]
+type Lanes = glam::DVec4;
 
 impl Triangle {
     /// A triangle from its vertices.
     #[inline]
     #[must_use]
     pub const fn new(p0: Vec3, p1: Vec3, p2: Vec3) -> Self {
-        Self { p0, p1, p2 }
+        Self {
+            c: [p0.x, p1.x, p2.x, p0.y, p1.y, p2.y, p0.z, p1.z, p2.z, 0.0],
+        }
+    }
+
+    /// The vertices `[p0, p1, p2]`.
+    #[inline]
+    #[must_use]
+    pub fn vertices(&self) -> [Vec3; 3] {
+        let c = &self.c;
+        [0, 1, 2].map(|i| Vec3::new(c[i], c[3 + i], c[6 + i]))
     }
 
     /// `(p1 − p0) × (p2 − p0)`: twice the area, along the front normal.
     #[inline]
     #[must_use]
     pub fn area_normal(&self) -> Vec3 {
-        (self.p1 - self.p0).cross(self.p2 - self.p0)
+        let [p0, p1, p2] = self.vertices();
+        (p1 - p0).cross(p2 - p0)
     }
 
     /// Whether the triangle has zero area (its vertices are collinear), in
@@ -60,78 +81,59 @@ impl Triangle {
         self.area_normal() == Vec3::ZERO
     }
 
+    /// Coordinate `k` of the three vertices in lanes 0..3 (lane 3 is
+    /// another value, never used).
+    #[inline(always)]
+    fn lanes(&self, k: usize) -> Lanes {
+        Lanes::from_slice(&self.c[3 * k..3 * k + 4])
+    }
+
     /// The watertight test: `(t, u, v)` of a hit with `t` in
     /// `[t_min, t_max]` and `t > δt`.
     #[inline]
     #[must_use]
     pub fn intersect(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
-        let d = ray.dir;
-        let ad = d.abs();
-        // Permutation: kz is the axis of the largest |d|; swapping kx, ky for
-        // a negative d[kz] keeps the winding (and so the signs) consistent.
-        let kz = if ad.x > ad.y {
-            if ad.x > ad.z {
-                0
-            } else {
-                2
-            }
-        } else if ad.y > ad.z {
-            1
-        } else {
-            2
-        };
-        let mut kx = if kz == 2 { 0 } else { kz + 1 };
-        let mut ky = if kx == 2 { 0 } else { kx + 1 };
-        if d[kz] < 0.0 {
-            std::mem::swap(&mut kx, &mut ky);
-        }
-        // Shear constants. d[kz] == 0 only for a zero direction: then sz is
-        // infinite, the edge functions are NaN and every test below fails.
-        let sz = 1.0 / d[kz];
-        let sx = d[kx] * sz;
-        let sy = d[ky] * sz;
-
-        // Vertices relative to the origin, permuted and sheared.
-        let a = self.p0 - ray.origin;
-        let b = self.p1 - ray.origin;
-        let c = self.p2 - ray.origin;
-        let ax = a[kx] - sx * a[kz];
-        let ay = a[ky] - sy * a[kz];
-        let bx = b[kx] - sx * b[kz];
-        let by = b[ky] - sy * b[kz];
-        let cx = c[kx] - sx * c[kz];
-        let cy = c[ky] - sy * c[kz];
-
-        // Scaled barycentrics: the 2D edge functions.
+        use glam::Vec4Swizzles;
+        // The vertices relative to the origin, permuted and sheared: lane i
+        // of x, y, z is vertex i. z stays unscaled until a hit needs it.
+        let [kx, ky, kz] = ray.shear.axes;
+        let [sx, sy, sz] = ray.shear.s;
+        let o: &[Real; 3] = ray.origin.as_ref();
+        let z = self.lanes(kz) - Lanes::splat(o[kz]);
+        let x = (self.lanes(kx) - Lanes::splat(o[kx])) - Lanes::splat(sx) * z;
+        let y = (self.lanes(ky) - Lanes::splat(o[ky])) - Lanes::splat(sy) * z;
+        // Scaled barycentrics, the 2D edge functions: lane 0 is
+        // cx·by − cy·bx, lane 1 ax·cy − ay·cx, lane 2 bx·ay − by·ax.
         #[allow(unused_mut)]
-        let mut e0 = cx * by - cy * bx;
-        #[allow(unused_mut)]
-        let mut e1 = ax * cy - ay * cx;
-        #[allow(unused_mut)]
-        let mut e2 = bx * ay - by * ax;
+        let mut e = x.zxyw() * y.yzxw() - y.zxyw() * x.yzxw();
+        // Lanes 0..3 of a comparison mask (lane 3 holds no vertex).
+        let any3 = |mask: u32| mask & 7 != 0;
         #[cfg(not(feature = "f64"))]
-        if e0 == 0.0 || e1 == 0.0 || e2 == 0.0 {
+        if any3(e.cmpeq(Lanes::ZERO).bitmask()) {
             // On an edge in f32: redo the differences of exact f64 products so
             // that the sign, which decides the hit, is exact.
-            let (ax, ay, bx, by, cx, cy) = (
-                ax as f64, ay as f64, bx as f64, by as f64, cx as f64, cy as f64,
+            let [ax, bx, cx, _] = x.to_array().map(f64::from);
+            let [ay, by, cy, _] = y.to_array().map(f64::from);
+            e = Lanes::new(
+                (cx * by - cy * bx) as f32,
+                (ax * cy - ay * cx) as f32,
+                (bx * ay - by * ax) as f32,
+                0.0,
             );
-            e0 = (cx * by - cy * bx) as f32;
-            e1 = (ax * cy - ay * cx) as f32;
-            e2 = (bx * ay - by * ax) as f32;
         }
         // Inside means all three of one sign (zeros allowed: edges count).
-        if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
+        if any3(e.cmplt(Lanes::ZERO).bitmask()) && any3(e.cmpgt(Lanes::ZERO).bitmask()) {
             return None;
         }
+        let [e0, e1, e2, _] = e.to_array();
         let det = e0 + e1 + e2;
         if det == 0.0 || det.is_nan() {
             // Seen edge-on, or a zero direction.
             return None;
         }
-        let az = sz * a[kz];
-        let bz = sz * b[kz];
-        let cz = sz * c[kz];
+        let [ax, bx, cx, _] = x.to_array();
+        let [ay, by, cy, _] = y.to_array();
+        let [az, bz, cz, _] = (z * sz).to_array();
         let inv_det = 1.0 / det;
         let t = (e0 * az + e1 * bz + e2 * cz) * inv_det;
         if !(t >= t_min && t <= t_max) {
@@ -168,10 +170,8 @@ impl Triangle {
 impl Primitive for Triangle {
     #[inline]
     fn bounds(&self) -> Aabb {
-        Aabb::new(
-            self.p0.min(self.p1).min(self.p2),
-            self.p0.max(self.p1).max(self.p2),
-        )
+        let [p0, p1, p2] = self.vertices();
+        Aabb::new(p0.min(p1).min(p2), p0.max(p1).max(p2))
     }
 
     #[inline]
@@ -183,7 +183,8 @@ impl Primitive for Triangle {
     /// margin so that a touching box is never rejected.
     #[inline]
     fn overlaps_box(&self, cell: &Aabb) -> bool {
-        overlap::triangle_box(self.p0, self.p1, self.p2, cell)
+        let [p0, p1, p2] = self.vertices();
+        overlap::triangle_box(p0, p1, p2, cell)
     }
 }
 
@@ -193,7 +194,8 @@ impl Surface for Triangle {
     #[inline]
     fn surface(&self, _ray: &Ray, _t: Real, u: Real, v: Real) -> SurfacePoint {
         let w = 1.0 - u - v;
-        let (q0, q1, q2) = (self.p0 * w, self.p1 * u, self.p2 * v);
+        let [p0, p1, p2] = self.vertices();
+        let (q0, q1, q2) = (p0 * w, p1 * u, p2 * v);
         let p = q0 + q1 + q2;
         let p_err = (q0.abs() + q1.abs() + q2.abs()) * gamma(7);
         SurfacePoint {
@@ -224,7 +226,8 @@ mod tests {
             .unwrap();
         assert_eq!((h.t, h.u, h.v), (2.0, 0.25, 0.5));
         // Either winding, either side.
-        let back = Triangle::new(tri.p0, tri.p2, tri.p1);
+        let [p0, p1, p2] = tri.vertices();
+        let back = Triangle::new(p0, p2, p1);
         let h = back
             .intersect(&ray([1.0, 2.0, -5.0], [0.0, 0.0, 1.0]), 0.0, Real::INFINITY)
             .unwrap();
