@@ -498,7 +498,7 @@ impl<P: Primitive> Grid<P> {
         grid.blocks = grid.block_map();
         grid.occ = grid.occupancy_bits();
         let crowded = grid.runs(config.nest_min_refs as usize);
-        let nested = Nested::build(grid.slots(), &grid.geom, crowded, config);
+        let nested = Nested::build(grid.slots(), &grid.geom, grid.refs.len(), crowded, config);
         grid.nested = nested;
         let cells = grid.geom.cell_count();
         let table_bytes = match &grid.cells {

@@ -44,15 +44,24 @@ pub(crate) struct Sub {
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Nested {
     pub subs: Box<[Sub]>,
+    /// One bit per index of the outer grid's references, set where the run
+    /// of a cell with a nested grid starts; `subs` are in the order of
+    /// these bits.
+    starts: Box<[u64]>,
+    /// `rank[w]`: the set bits of `starts[..w]`, so that a start's nested
+    /// grid is found by one popcount instead of a search.
+    rank: Box<[u32]>,
     /// Cells with fewer references have no nested grid (0: none has).
     pub min_refs: usize,
 }
 
 impl Nested {
     /// Nested grids for the crowded cells `(index, start, references)`.
+    /// `refs` is the length of the outer grid's reference array.
     pub(crate) fn build<P: Primitive>(
         prims: &[P],
         outer: &Geom,
+        refs: usize,
         crowded: Vec<([u32; 3], u32, &[u32])>,
         config: &GridConfig,
     ) -> Self {
@@ -65,7 +74,21 @@ impl Nested {
             Sub::build(prims, outer, idx, start, refs, m)
         });
         subs.sort_unstable_by_key(|s| s.start);
+        let mut starts = vec![0u64; refs.div_ceil(64)];
+        for s in &subs {
+            starts[s.start as usize >> 6] |= 1 << (s.start & 63);
+        }
+        let rank = starts
+            .iter()
+            .scan(0u32, |n, w| {
+                let r = *n;
+                *n += w.count_ones();
+                Some(r)
+            })
+            .collect();
         Self {
+            starts: starts.into_boxed_slice(),
+            rank,
             subs: subs.into_boxed_slice(),
             min_refs: config.nest_min_refs as usize,
         }
@@ -78,26 +101,36 @@ impl Nested {
         if self.min_refs == 0 || len < self.min_refs {
             return None;
         }
-        let i = self.subs.binary_search_by_key(&start, |s| s.start).ok()?;
-        self.subs.get(i)
+        let w = start as usize >> 6;
+        let bits = *self.starts.get(w)?;
+        // The bits up to and including the start's own.
+        let below = bits & (u64::MAX >> (63 - (start & 63)));
+        if below >> (start & 63) == 0 {
+            return None;
+        }
+        self.subs
+            .get(self.rank[w] as usize + below.count_ones() as usize - 1)
     }
 
     /// Heap bytes of all nested grids.
     pub(crate) fn bytes(&self) -> usize {
-        self.subs
-            .iter()
-            .map(|s| {
-                std::mem::size_of::<Sub>()
-                    + std::mem::size_of_val(&*s.offsets)
-                    + std::mem::size_of_val(&*s.refs)
-                    + std::mem::size_of_val(&*s.occ)
-                    + s.geom
-                        .planes
-                        .iter()
-                        .map(|p| 2 * std::mem::size_of_val(&**p))
-                        .sum::<usize>()
-            })
-            .sum()
+        std::mem::size_of_val(&*self.starts)
+            + std::mem::size_of_val(&*self.rank)
+            + self
+                .subs
+                .iter()
+                .map(|s| {
+                    std::mem::size_of::<Sub>()
+                        + std::mem::size_of_val(&*s.offsets)
+                        + std::mem::size_of_val(&*s.refs)
+                        + std::mem::size_of_val(&*s.occ)
+                        + s.geom
+                            .planes
+                            .iter()
+                            .map(|p| 2 * std::mem::size_of_val(&**p))
+                            .sum::<usize>()
+                })
+                .sum::<usize>()
     }
 }
 
