@@ -7,10 +7,13 @@
 //! `spheres` (N = 1e3…1e6), `mesh` (1,024,000 triangles), `bunny`,
 //! `copies` (spheres copied into cell order), `sorted`, `sweep` (m and
 //! storage sweep), `mailbox`, `meshnest` (nested grids on the mesh),
+//! `meshcopies` (the mesh copied into cell order, flat and nested),
 //! `meshshadow` (any-hit shadow rays on the mesh, with and without nesting),
-//! `exhaustive`; `SUFFERN_N`
-//! overrides the list of N. Timings are best of several runs, in one thread
-//! (the build also with rayon).
+//! `meshprofile` (only the mesh trace, repeated, for a profiler),
+//! `exhaustive`. `SUFFERN_N` overrides the list of N, `SUFFERN_M` the grid
+//! multiplier and `SUFFERN_NEST` the nesting threshold of the base
+//! configuration. Timings are best of several runs, in one thread (the
+//! build also with rayon).
 
 #[path = "../tests/support/prims.rs"]
 mod prims;
@@ -285,7 +288,11 @@ fn main() {
     }
     if has("meshprofile") {
         let tris = scenes::uv_sphere_mesh(&scenes::suffern_spheres(1000), 32, 17);
-        let g = Grid::build(tris, &base);
+        let g = if std::env::var("COPIES").is_ok() {
+            Grid::build_with_copies(tris, &base)
+        } else {
+            Grid::build(tris, &base)
+        };
         let reps = std::env::var("REPS")
             .ok()
             .and_then(|s| s.parse().ok())
@@ -408,12 +415,25 @@ fn main() {
         }
     }
     if has("meshcopies") {
-        // The mesh with its triangles copied into cell order.
+        // The mesh with its triangles copied into cell order: the flat grid
+        // at the default `m`, and nested grids at the coarser `m` that suits them.
         let tris = scenes::uv_sphere_mesh(&scenes::suffern_spheres(1000), 32, 17);
-        for m in [0.5, 0.75, 1.25, 2.0] {
-            let c = GridConfig { m, ..base };
+        for (m, nest_min_refs) in [(base.m, 0), (0.5, 8)] {
+            let c = GridConfig {
+                m,
+                nest_min_refs,
+                ..base
+            };
             let r = measure_with(&tris, &rays, &c, 5, Grid::build_with_copies);
-            print_row("meshcopy", &c, &r);
+            print_row(
+                if nest_min_refs == 0 {
+                    "meshcopy"
+                } else {
+                    "nestcopy8"
+                },
+                &c,
+                &r,
+            );
         }
     }
     if has("meshnest") {

@@ -109,9 +109,14 @@ impl Triangle {
     }
 
     /// The three vertices.
+    #[inline]
     pub fn vertices(&self) -> [Vec3; 3] {
         let c = &self.c;
-        [0, 1, 2].map(|i| Vec3::new(c[i], c[3 + i], c[6 + i]))
+        [
+            Vec3::new(c[0], c[3], c[6]),
+            Vec3::new(c[1], c[4], c[7]),
+            Vec3::new(c[2], c[5], c[8]),
+        ]
     }
 
     /// Coordinate `k` of the three vertices in lanes 0..3.

@@ -62,7 +62,11 @@ impl Triangle {
     #[must_use]
     pub fn vertices(&self) -> [Vec3; 3] {
         let c = &self.c;
-        [0, 1, 2].map(|i| Vec3::new(c[i], c[3 + i], c[6 + i]))
+        [
+            Vec3::new(c[0], c[3], c[6]),
+            Vec3::new(c[1], c[4], c[7]),
+            Vec3::new(c[2], c[5], c[8]),
+        ]
     }
 
     /// `(p1 − p0) × (p2 − p0)`: twice the area, along the front normal.
