@@ -10,6 +10,7 @@
 //! `meshcopies` (the mesh copied into cell order, flat and nested),
 //! `meshshadow` (any-hit shadow rays on the mesh, with and without nesting),
 //! `meshprofile` (only the mesh trace, repeated, for a profiler),
+//! `buildprofile` (only the one-thread build, repeated, for a profiler),
 //! `exhaustive`. `SUFFERN_N` overrides the list of N, `SUFFERN_M` the grid
 //! multiplier and `SUFFERN_NEST` the nesting threshold of the base
 //! configuration. Timings are best of several runs, in one thread (the
@@ -284,6 +285,24 @@ fn main() {
             let g = Grid::build(s, &base);
             let hits = trace(&g, &rays);
             println!("# once N={n}: {:?}", scenes::checksum(&hits));
+        }
+    }
+    if has("buildprofile") {
+        // Only the one-thread build, repeated, for a profiler.
+        let seq = GridConfig {
+            parallel_build: false,
+            ..base
+        };
+        for &n in &ns() {
+            let s = scenes::suffern_spheres(n);
+            let mut best = Duration::MAX;
+            for _ in 0..20 {
+                let p = s.clone();
+                let t = thread_cpu();
+                black_box(Grid::build(p, &seq));
+                best = best.min(thread_cpu() - t);
+            }
+            println!("# build profile N={n}: {:.2} ms (best of 20)", ms(best));
         }
     }
     if has("meshprofile") {
