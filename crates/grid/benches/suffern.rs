@@ -130,19 +130,7 @@ fn measure_with<P: Primitive + Clone>(
     reps: usize,
     build: fn(Vec<P>, &GridConfig) -> Grid<P>,
 ) -> Row {
-    let seq = GridConfig {
-        parallel_build: false,
-        ..*config
-    };
-    // The primitives are copied outside the timed region.
-    let mut build_seq = Duration::MAX;
-    for _ in 0..3 {
-        let p = prims.to_vec();
-        let t = thread_cpu();
-        let g = black_box(build(p, &seq));
-        build_seq = build_seq.min(thread_cpu() - t);
-        drop(g);
-    }
+    let build_seq = best_seq_build(prims, config, 3, build);
     let mut build_par = Duration::MAX;
     let mut g = build(prims.to_vec(), config);
     for _ in 0..3 {
@@ -165,6 +153,30 @@ fn measure_with<P: Primitive + Clone>(
         mb: g.stats().bytes as f64 / 1e6,
         dims: g.stats().dims,
     }
+}
+
+/// The best one-thread build time (thread CPU time) of `reps` builds with
+/// `build`; the primitives are copied, and the grid dropped, outside the
+/// timed region.
+fn best_seq_build<P: Primitive + Clone>(
+    prims: &[P],
+    config: &GridConfig,
+    reps: usize,
+    build: fn(Vec<P>, &GridConfig) -> Grid<P>,
+) -> Duration {
+    let seq = GridConfig {
+        parallel_build: false,
+        ..*config
+    };
+    let mut best = Duration::MAX;
+    for _ in 0..reps {
+        let p = prims.to_vec();
+        let t = thread_cpu();
+        let g = black_box(build(p, &seq));
+        best = best.min(thread_cpu() - t);
+        drop(g);
+    }
+    best
 }
 
 fn ms(d: Duration) -> f64 {
@@ -289,19 +301,9 @@ fn main() {
     }
     if has("buildprofile") {
         // Only the one-thread build, repeated, for a profiler.
-        let seq = GridConfig {
-            parallel_build: false,
-            ..base
-        };
         for &n in &ns() {
             let s = scenes::suffern_spheres(n);
-            let mut best = Duration::MAX;
-            for _ in 0..20 {
-                let p = s.clone();
-                let t = thread_cpu();
-                black_box(Grid::build(p, &seq));
-                best = best.min(thread_cpu() - t);
-            }
+            let best = best_seq_build(&s, &base, 20, Grid::build);
             println!("# build profile N={n}: {:.2} ms (best of 20)", ms(best));
         }
     }
