@@ -115,7 +115,7 @@ pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig, renumber: bo
         .min(u64::from(u32::MAX) / 2);
     loop {
         let g = Geom::new(bounds, dims);
-        match build_cells(prims, &g, config, ref_limit, renumber) {
+        match build_cells(prims, &g, config, ref_limit, renumber, unbounded.is_empty()) {
             Some(((cells, refs, spread, occupied, max_refs), ids)) => {
                 return Built {
                     geom: g,
@@ -199,16 +199,18 @@ impl Pair for Wide {
 }
 
 /// Builds cells and references on a fixed geometry; `None` when the
-/// references would exceed `ref_limit`.
+/// references would exceed `ref_limit`. `all_gridded`: every primitive's
+/// box is known to be finite.
 fn build_cells<P: Primitive>(
     prims: &[P],
     g: &Geom,
     config: &GridConfig,
     ref_limit: u64,
     renumber: bool,
+    all_gridded: bool,
 ) -> Option<(CellsOut, Box<[u32]>)> {
     if config.storage == CellStorage::Dense {
-        return crate::compact::build_dense(prims, g, config, ref_limit, renumber);
+        return crate::compact::build_dense(prims, g, config, ref_limit, renumber, all_gridded);
     }
     let spread: [Box<[u64]>; 3] = std::array::from_fn(|a| {
         (0..g.dims[a])

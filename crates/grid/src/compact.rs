@@ -47,12 +47,15 @@ fn record(prim: u32, code: u64, base: usize) -> Record {
 /// With `renumber` the records are sorted by their first cell exactly, the
 /// references are record positions (slots) instead of primitive indices,
 /// and the last element of the result is the primitive of each slot.
+/// `all_gridded`: every primitive's box is known to be finite (the bounds
+/// pass saw no other), so the ranges pass need not check again.
 pub(crate) fn build_dense<P: Primitive>(
     prims: &[P],
     g: &Geom,
     config: &GridConfig,
     ref_limit: u64,
     renumber: bool,
+    all_gridded: bool,
 ) -> Option<(CellsOut, Box<[u32]>)> {
     let parallel = config.parallel_build;
     let exact = config.exact_insertion;
@@ -79,7 +82,7 @@ pub(crate) fn build_dense<P: Primitive>(
         let mut generals = 0usize;
         for (prim, p) in (s as u32..).zip(&prims[s..e]) {
             let b = p.bounds();
-            if !is_gridded(&b) {
+            if !all_gridded && !is_gridded(&b) {
                 continue;
             }
             let (lo, hi) = g.cell_range(&b);

@@ -173,21 +173,14 @@ impl Geom {
         let lo = ((b.min - self.pad - self.bounds.min) * self.inv).clamp(Vec3::ZERO, last);
         let hi = ((b.max + self.pad - self.bounds.min) * self.inv).clamp(Vec3::ZERO, last);
         // SAFETY: clamped to `[0, dims − 1]` (NaN clamps to 0), so each value
-        // is finite and fits a `u32`; the conversion truncates.
-        unsafe {
-            (
-                [
-                    lo.x.to_int_unchecked(),
-                    lo.y.to_int_unchecked(),
-                    lo.z.to_int_unchecked(),
-                ],
-                [
-                    hi.x.to_int_unchecked(),
-                    hi.y.to_int_unchecked(),
-                    hi.z.to_int_unchecked(),
-                ],
-            )
-        }
+        // is finite and fits an `i32` (at most 2^21 cells per axis); the
+        // conversion truncates. (A signed conversion is one instruction,
+        // an unsigned one several.)
+        let int = |v: Real| unsafe { v.to_int_unchecked::<i32>() as u32 };
+        (
+            [int(lo.x), int(lo.y), int(lo.z)],
+            [int(hi.x), int(hi.y), int(hi.z)],
+        )
     }
 
     /// Calls `f` with the row-major index of every cell of the inclusive
