@@ -10,7 +10,8 @@
 //! `meshcopies` (the mesh copied into cell order, flat and nested),
 //! `meshshadow` (any-hit shadow rays on the mesh, with and without nesting),
 //! `meshprofile` (only the mesh trace, repeated, for a profiler),
-//! `buildprofile` (only the one-thread build, repeated, for a profiler),
+//! `buildprofile` (only the one-thread build, repeated, for a profiler;
+//! `COPIES=1` builds with copies),
 //! `exhaustive`. `SUFFERN_N` overrides the list of N, `SUFFERN_M` the grid
 //! multiplier and `SUFFERN_NEST` the nesting threshold of the base
 //! configuration. Timings are best of several runs, in one thread (the
@@ -303,8 +304,18 @@ fn main() {
         // Only the one-thread build, repeated, for a profiler.
         for &n in &ns() {
             let s = scenes::suffern_spheres(n);
-            let best = best_seq_build(&s, &base, 20, Grid::build);
-            println!("# build profile N={n}: {:.2} ms (best of 20)", ms(best));
+            let copies = std::env::var("COPIES").is_ok();
+            let build = if copies {
+                Grid::build_with_copies
+            } else {
+                Grid::build
+            };
+            let best = best_seq_build(&s, &base, 20, build);
+            println!(
+                "# build profile N={n}{}: {:.2} ms (best of 20)",
+                if copies { ", copies" } else { "" },
+                ms(best)
+            );
         }
     }
     if has("meshprofile") {
