@@ -14,7 +14,7 @@
 //! `COPIES=1` builds with copies),
 //! `exhaustive`. `SUFFERN_N` overrides the list of N, `SUFFERN_M` the grid
 //! multiplier and `SUFFERN_NEST` the nesting threshold of the base
-//! configuration. Timings are best of several runs, in one thread (the
+//! configuration; `SUFFERN_MB` (any value) turns its mailbox on. Timings are best of several runs, in one thread (the
 //! build also with rayon).
 
 #[path = "../tests/support/prims.rs"]
@@ -264,6 +264,9 @@ fn main() {
         .and_then(|s| s.parse().ok())
     {
         base.nest_min_refs = n;
+    }
+    if std::env::var("SUFFERN_MB").is_ok() {
+        base.mailbox = true;
     }
     header();
     if has("spheres") {
