@@ -14,8 +14,8 @@
 //! `COPIES=1` builds with copies),
 //! `exhaustive`. `SUFFERN_N` overrides the list of N, `SUFFERN_M` the grid
 //! multiplier and `SUFFERN_NEST` the nesting threshold of the base
-//! configuration; `SUFFERN_MB` (any value) turns its mailbox on. Timings are best of several runs, in one thread (the
-//! build also with rayon).
+//! configuration; `SUFFERN_MB` (any value) turns its mailbox on. Timings
+//! are best of several runs, in one thread (the build also with rayon).
 
 #[path = "../tests/support/prims.rs"]
 mod prims;
@@ -305,14 +305,14 @@ fn main() {
     }
     if has("buildprofile") {
         // Only the one-thread build, repeated, for a profiler.
+        let copies = std::env::var("COPIES").is_ok();
+        let build = if copies {
+            Grid::build_with_copies
+        } else {
+            Grid::build
+        };
         for &n in &ns() {
             let s = scenes::suffern_spheres(n);
-            let copies = std::env::var("COPIES").is_ok();
-            let build = if copies {
-                Grid::build_with_copies
-            } else {
-                Grid::build
-            };
             let best = best_seq_build(&s, &base, 20, build);
             println!(
                 "# build profile N={n}{}: {:.2} ms (best of 20)",

@@ -222,9 +222,9 @@ fn build_cells<P: Primitive>(
         | spread[2][g.dims[2] as usize - 1];
     let key_bits = 64 - max_key.leading_zeros();
     let mut out = if key_bits <= 32 {
-        build_pairs::<P, u64>(prims, g, config, ref_limit, spread, key_bits)
+        build_pairs::<P, u64>(prims, g, config, ref_limit, spread, key_bits, all_gridded)
     } else {
-        build_pairs::<P, Wide>(prims, g, config, ref_limit, spread, key_bits)
+        build_pairs::<P, Wide>(prims, g, config, ref_limit, spread, key_bits, all_gridded)
     }?;
     let ids = if renumber {
         first_seen(&mut out.1, prims.len())
@@ -235,6 +235,7 @@ fn build_cells<P: Primitive>(
 }
 
 /// The hashed table's build: `(Morton code, primitive)` pairs, sorted.
+/// `all_gridded` as for [`crate::compact::build_dense`].
 fn build_pairs<P: Primitive, T: Pair>(
     prims: &[P],
     g: &Geom,
@@ -242,6 +243,7 @@ fn build_pairs<P: Primitive, T: Pair>(
     ref_limit: u64,
     spread: [Box<[u64]>; 3],
     key_bits: u32,
+    all_gridded: bool,
 ) -> Option<CellsOut> {
     let parallel = config.parallel_build;
     let n = prims.len();
@@ -258,7 +260,7 @@ fn build_pairs<P: Primitive, T: Pair>(
         let mut since_check = 0usize;
         for (p, prim) in (s as u32..).zip(&prims[s..e]) {
             let b = prim.bounds();
-            if !is_gridded(&b) {
+            if !all_gridded && !is_gridded(&b) {
                 continue;
             }
             let (lo, hi) = g.cell_range(&b);
