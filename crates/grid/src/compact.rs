@@ -69,10 +69,16 @@ pub(crate) fn build_dense<P: Primitive>(
     // Whether a first cell's index fits the record's 28 bits.
     let packable = cells <= 1 << (64 - BASE_SHIFT);
 
+    // The radix pass's runs (below): 2^shift row-major cells each.
+    let cell_bits = 64 - (cells as u64).leading_zeros();
+    let shift = cell_bits.saturating_sub(12);
+    let sorted = packable && cell_bits > shift;
     // Ranges, in parallel over chunks of primitives, each written where its
     // primitives are (one buffer, no concatenation); the total is an upper
-    // bound of the references (exact insertion may drop some).
-    let chunks = chunk_count(n, parallel, 1 << 14);
+    // bound of the references (exact insertion may drop some). Each chunk
+    // also counts its records per run: the radix pass's histogram, if no
+    // primitive is left out (the chunks are the radix pass's).
+    let chunks = radix::chunks(n, parallel);
     let mut ranges: Vec<Record> = crate::mem::with_capacity(n);
     let dst = SharedMut(ranges.as_mut_ptr());
     let parts = map_indices(chunks, parallel, |c| {
@@ -80,6 +86,7 @@ pub(crate) fn build_dense<P: Primitive>(
         let mut len = 0;
         let mut volume = 0u64;
         let mut generals = 0usize;
+        let mut hist = vec![0u32; if sorted { 1 << (cell_bits - shift) } else { 0 }];
         for (prim, p) in (s as u32..).zip(&prims[s..e]) {
             let b = p.bounds();
             if !all_gridded && !is_gridded(&b) {
@@ -95,12 +102,15 @@ pub(crate) fn build_dense<P: Primitive>(
                 GENERAL
             };
             generals += usize::from(code == GENERAL);
+            if sorted {
+                hist[base >> shift] += 1;
+            }
             // SAFETY: chunk `c` writes only positions `s..s + len`, `len <=
             // e - s`, within the capacity `n`.
             unsafe { dst.write(s + len, record(prim, code, if packable { base } else { 0 })) };
             len += 1;
         }
-        (s, len, volume, generals)
+        (s, len, volume, generals, hist)
     });
     // Close the gaps left by primitives that are not gridded (if any).
     let mut total = 0;
@@ -123,17 +133,16 @@ pub(crate) fn build_dense<P: Primitive>(
     // cell is in (one stable radix pass of at most 12 bits): counting and
     // filling then sweep the offsets nearly in order. Slots follow the
     // record order, so for them each run is then sorted by first cell too.
-    let cell_bits = 64 - (cells as u64).leading_zeros();
-    let shift = cell_bits.saturating_sub(12);
-    let sorted = packable && cell_bits > shift;
     if sorted {
         let mut tmp = Vec::new();
-        radix::sort_by_key(
+        let counted = (total == n).then(|| parts.into_iter().map(|p| p.4).collect());
+        radix::sort_by_key_counted(
             &mut ranges,
             &mut tmp,
             cell_bits - shift,
             |r: &Record| r >> (BASE_SHIFT + shift),
             parallel,
+            counted,
         );
         if renumber && shift > 0 {
             sort_runs(&mut ranges, shift, parallel);

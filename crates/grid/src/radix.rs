@@ -22,6 +22,34 @@ pub(crate) fn sort_by_key<T, K>(
     T: Copy + Send + Sync,
     K: Fn(&T) -> u64 + Sync + Send,
 {
+    sort_by_key_counted(data, tmp, key_bits, key, parallel, None);
+}
+
+/// The chunks of `len` items that [`sort_by_key_counted`] histograms.
+pub(crate) fn chunks(len: usize, parallel: bool) -> usize {
+    chunk_count(len, parallel, 1 << 16)
+}
+
+/// As [`sort_by_key`]; `counted`, if given, holds the histograms of
+/// `key(x)` over each of the [`chunks`] chunks of `data` (a caller that
+/// counted the keys while making the items saves a pass over them). Only
+/// for a single pass: `key_bits` at most [`MAX_DIGIT_BITS`].
+///
+/// # Panics
+///
+/// If `counted` has not one histogram of `2^key_bits` buckets per chunk,
+/// or its counts do not add up to `data.len()`.
+pub(crate) fn sort_by_key_counted<T, K>(
+    data: &mut Vec<T>,
+    tmp: &mut Vec<T>,
+    key_bits: u32,
+    key: K,
+    parallel: bool,
+    mut counted: Option<Vec<Vec<u32>>>,
+) where
+    T: Copy + Send + Sync,
+    K: Fn(&T) -> u64 + Sync + Send,
+{
     let len = data.len();
     if key_bits == 0 || len < 2 {
         return;
@@ -34,19 +62,31 @@ pub(crate) fn sort_by_key<T, K>(
     let width = key_bits.div_ceil(passes);
     let buckets = 1usize << width;
     let mask = (buckets - 1) as u64;
-    let chunks = chunk_count(len, parallel, 1 << 16);
+    let chunks = chunks(len, parallel);
+    if let Some(h) = &counted {
+        let total: usize = h.iter().flatten().map(|&c| c as usize).sum();
+        assert!(
+            passes == 1
+                && h.len() == chunks
+                && h.iter().all(|b| b.len() == buckets)
+                && total == len,
+            "histograms of another sort"
+        );
+    }
     for pass in 0..passes {
         let shift = pass * width;
         let digit = |x: &T| ((key(x) >> shift) & mask) as usize;
         // Per-chunk histograms of this digit.
         let src: &[T] = data;
-        let hists: Vec<Vec<u32>> = map_indices(chunks, parallel, |c| {
-            let (s, e) = chunk_bounds(len, chunks, c);
-            let mut h = vec![0u32; buckets];
-            for x in &src[s..e] {
-                h[digit(x)] += 1;
-            }
-            h
+        let hists: Vec<Vec<u32>> = counted.take().unwrap_or_else(|| {
+            map_indices(chunks, parallel, |c| {
+                let (s, e) = chunk_bounds(len, chunks, c);
+                let mut h = vec![0u32; buckets];
+                for x in &src[s..e] {
+                    h[digit(x)] += 1;
+                }
+                h
+            })
         });
         // All items in one bucket: this digit is constant, the pass would not move anything.
         let mut totals = vec![0usize; buckets];
@@ -126,6 +166,44 @@ mod tests {
                 assert_eq!(got, want, "n = {n}, bits = {bits}, parallel = {parallel}");
             }
             v.clear();
+        }
+    }
+
+    /// Histograms counted by the caller give the same sort; histograms of
+    /// other items are refused.
+    #[test]
+    fn counted_histograms_sort_alike() {
+        let bits = 11;
+        let mut s = 3u64;
+        let v: Vec<(u64, u32)> = (0..300_000)
+            .map(|i| (lcg(&mut s) & ((1 << bits) - 1), i))
+            .collect();
+        let mut want = v.clone();
+        want.sort_by_key(|x| x.0);
+        for parallel in [false, true] {
+            let n = chunks(v.len(), parallel);
+            let hists: Vec<Vec<u32>> = (0..n)
+                .map(|c| {
+                    let (s, e) = chunk_bounds(v.len(), n, c);
+                    let mut h = vec![0u32; 1 << bits];
+                    for x in &v[s..e] {
+                        h[x.0 as usize] += 1;
+                    }
+                    h
+                })
+                .collect();
+            let mut got = v.clone();
+            let mut tmp = Vec::new();
+            let mut short = hists.clone();
+            short[0][0] += 1;
+            let items = v.clone();
+            let refused = std::panic::catch_unwind(move || {
+                let (mut got, mut tmp) = (items, Vec::new());
+                sort_by_key_counted(&mut got, &mut tmp, bits, |x| x.0, parallel, Some(short));
+            });
+            assert!(refused.is_err());
+            sort_by_key_counted(&mut got, &mut tmp, bits, |x| x.0, parallel, Some(hists));
+            assert_eq!(got, want, "parallel = {parallel}");
         }
     }
 }
