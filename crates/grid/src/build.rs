@@ -300,7 +300,7 @@ fn build_pairs<P: Primitive, T: Pair>(
 
     // Phase 4: sort by cell key (stable: each run stays in primitive order).
     let mut tmp = Vec::new();
-    radix::sort_by_key(&mut pairs, &mut tmp, key_bits, T::key, parallel);
+    radix::sort_by_key(&mut pairs, &mut tmp, key_bits, T::key, parallel, None);
     drop(tmp);
     let r = pairs.len();
 

@@ -136,7 +136,7 @@ pub(crate) fn build_dense<P: Primitive>(
     if sorted {
         let mut tmp = Vec::new();
         let counted = (total == n).then(|| parts.into_iter().map(|p| p.4).collect());
-        radix::sort_by_key_counted(
+        radix::sort_by_key(
             &mut ranges,
             &mut tmp,
             cell_bits - shift,

@@ -10,36 +10,23 @@ const MAX_DIGIT_BITS: u32 = 12;
 /// Below this length the standard library's stable sort is used.
 const SMALL: usize = 1 << 12;
 
-/// Sorts `data` stably by `key(x)`, of which only the low `key_bits` bits may
-/// be set. `tmp` is scratch space (resized as needed).
-pub(crate) fn sort_by_key<T, K>(
-    data: &mut Vec<T>,
-    tmp: &mut Vec<T>,
-    key_bits: u32,
-    key: K,
-    parallel: bool,
-) where
-    T: Copy + Send + Sync,
-    K: Fn(&T) -> u64 + Sync + Send,
-{
-    sort_by_key_counted(data, tmp, key_bits, key, parallel, None);
-}
-
-/// The chunks of `len` items that [`sort_by_key_counted`] histograms.
+/// The chunks of `len` items that [`sort_by_key`] histograms.
 pub(crate) fn chunks(len: usize, parallel: bool) -> usize {
     chunk_count(len, parallel, 1 << 16)
 }
 
-/// As [`sort_by_key`]; `counted`, if given, holds the histograms of
-/// `key(x)` over each of the [`chunks`] chunks of `data` (a caller that
-/// counted the keys while making the items saves a pass over them). Only
-/// for a single pass: `key_bits` at most [`MAX_DIGIT_BITS`].
+/// Sorts `data` stably by `key(x)`, of which only the low `key_bits` bits may
+/// be set. `tmp` is scratch space (resized as needed). `counted`, if given,
+/// holds the histograms of `key(x)` over each of the [`chunks`] chunks of
+/// `data` (a caller that counted the keys while making the items saves a
+/// pass over them); only for a single pass: `key_bits` at most
+/// [`MAX_DIGIT_BITS`].
 ///
 /// # Panics
 ///
 /// If `counted` has not one histogram of `2^key_bits` buckets per chunk,
 /// or its counts do not add up to `data.len()`.
-pub(crate) fn sort_by_key_counted<T, K>(
+pub(crate) fn sort_by_key<T, K>(
     data: &mut Vec<T>,
     tmp: &mut Vec<T>,
     key_bits: u32,
@@ -162,7 +149,7 @@ mod tests {
             for parallel in [false, true] {
                 let mut got = v.clone();
                 let mut tmp = Vec::new();
-                sort_by_key(&mut got, &mut tmp, bits, |x| x.0, parallel);
+                sort_by_key(&mut got, &mut tmp, bits, |x| x.0, parallel, None);
                 assert_eq!(got, want, "n = {n}, bits = {bits}, parallel = {parallel}");
             }
             v.clear();
@@ -199,10 +186,10 @@ mod tests {
             let items = v.clone();
             let refused = std::panic::catch_unwind(move || {
                 let (mut got, mut tmp) = (items, Vec::new());
-                sort_by_key_counted(&mut got, &mut tmp, bits, |x| x.0, parallel, Some(short));
+                sort_by_key(&mut got, &mut tmp, bits, |x| x.0, parallel, Some(short));
             });
             assert!(refused.is_err());
-            sort_by_key_counted(&mut got, &mut tmp, bits, |x| x.0, parallel, Some(hists));
+            sort_by_key(&mut got, &mut tmp, bits, |x| x.0, parallel, Some(hists));
             assert_eq!(got, want, "parallel = {parallel}");
         }
     }
