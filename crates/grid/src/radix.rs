@@ -24,8 +24,10 @@ pub(crate) fn chunks(len: usize, parallel: bool) -> usize {
 ///
 /// # Panics
 ///
-/// If `counted` has not one histogram of `2^key_bits` buckets per chunk,
-/// or its counts do not add up to `data.len()`.
+/// If `data` has more than `u32::MAX` items, or if `counted` is not the
+/// histograms of `data`'s keys (one of `2^key_bits` buckets per chunk,
+/// counting those keys), unless the wrong histograms put every item in one
+/// bucket: then `data` is left as it is. Memory stays safe either way.
 pub(crate) fn sort_by_key<T, K>(
     data: &mut Vec<T>,
     tmp: &mut Vec<T>,
@@ -45,6 +47,8 @@ pub(crate) fn sort_by_key<T, K>(
         data.sort_by_key(|x| key(x));
         return;
     }
+    // Positions are kept in `u32`s (half the cache of `usize`s).
+    assert!(u32::try_from(len).is_ok(), "at most u32::MAX items");
     let passes = key_bits.div_ceil(MAX_DIGIT_BITS);
     let width = key_bits.div_ceil(passes);
     let buckets = 1usize << width;
@@ -87,12 +91,12 @@ pub(crate) fn sort_by_key<T, K>(
         }
         // Chunk c's items of bucket b go after all items of smaller buckets
         // and after chunk c' < c's items of bucket b: this keeps the sort stable.
-        let mut starts = vec![vec![0usize; buckets]; chunks];
-        let mut acc = 0usize;
+        let mut starts = vec![vec![0u32; buckets]; chunks];
+        let mut acc = 0u32;
         for b in 0..buckets {
             for c in 0..chunks {
                 starts[c][b] = acc;
-                acc += hists[c][b] as usize;
+                acc += hists[c][b];
             }
         }
         tmp.clear();
@@ -101,20 +105,27 @@ pub(crate) fn sort_by_key<T, K>(
             crate::mem::advise_huge(tmp);
         }
         let dst = SharedMut(tmp.as_mut_ptr());
-        let starts = &starts;
+        let (starts, hists) = (&starts, &hists);
         map_indices(chunks, parallel, |c| {
             let (s, e) = chunk_bounds(len, chunks, c);
             let mut pos = starts[c].clone();
+            let ends: Vec<u32> = pos.iter().zip(&hists[c]).map(|(&p, &h)| p + h).collect();
             for x in &src[s..e] {
                 let d = digit(x);
-                // SAFETY: positions [starts[c][b], starts[c][b] + hists[c][b]) are
-                // this chunk's alone, and all lie below `len`.
-                unsafe { dst.write(pos[d], *x) };
-                pos[d] += 1;
+                let p = pos[d];
+                // A histogram that undercounts (the caller's) is refused
+                // before it could write into another chunk's positions.
+                assert!(p < ends[d], "histograms of another sort");
+                // SAFETY: positions [starts[c][b], ends[b]) are this chunk's
+                // alone, and all lie below `len`.
+                unsafe { dst.write(p as usize, *x) };
+                pos[d] = p + 1;
             }
         });
-        // SAFETY: the scatter wrote every position below `len` exactly once
-        // (the bucket ranges partition `0..len`), within the reserved capacity.
+        // SAFETY: no chunk wrote past the end of its bucket ranges, which
+        // partition `0..len`, and as many items were written as the counts
+        // add up to, `len`: so every position below `len` was written
+        // exactly once, within the reserved capacity.
         unsafe { tmp.set_len(len) };
         std::mem::swap(data, tmp);
     }
@@ -181,14 +192,21 @@ mod tests {
                 .collect();
             let mut got = v.clone();
             let mut tmp = Vec::new();
-            let mut short = hists.clone();
-            short[0][0] += 1;
-            let items = v.clone();
-            let refused = std::panic::catch_unwind(move || {
-                let (mut got, mut tmp) = (items, Vec::new());
-                sort_by_key(&mut got, &mut tmp, bits, |x| x.0, parallel, Some(short));
-            });
-            assert!(refused.is_err());
+            // One count too many; one moved to the wrong bucket (the total
+            // still right): both refused.
+            let mut extra = hists.clone();
+            extra[0][0] += 1;
+            let mut moved = hists.clone();
+            moved[0][0] += 1;
+            moved[0][1] -= 1;
+            for wrong in [extra, moved] {
+                let items = v.clone();
+                let refused = std::panic::catch_unwind(move || {
+                    let (mut got, mut tmp) = (items, Vec::new());
+                    sort_by_key(&mut got, &mut tmp, bits, |x| x.0, parallel, Some(wrong));
+                });
+                assert!(refused.is_err());
+            }
             sort_by_key(&mut got, &mut tmp, bits, |x| x.0, parallel, Some(hists));
             assert_eq!(got, want, "parallel = {parallel}");
         }
