@@ -86,6 +86,103 @@ pub trait Primitive: Sync {
     fn overlaps_box(&self, cell: &Aabb) -> bool {
         self.bounds().overlaps(cell)
     }
+
+    /// Tests `prims[r]` for each `r` of `refs`, in order, and calls
+    /// `keep(r, hit)` for each hit; `keep` returns the `t_max` for the tests
+    /// that follow (a grid's cell: its references, the best hit so far).
+    ///
+    /// The default calls [`closest_hit`](Self::closest_hit) one primitive at
+    /// a time. An override may test several primitives at once (in SIMD
+    /// lanes) against the same `t_max`, so it may report hits beyond a
+    /// limit that `keep` has lowered in between (the caller discards them);
+    /// otherwise it must report exactly the hits of the default.
+    #[inline]
+    fn closest_hits(
+        prims: &[Self],
+        refs: &[u32],
+        ray: &Ray,
+        t_min: Real,
+        mut t_max: Real,
+        keep: &mut impl FnMut(u32, PrimHit) -> Real,
+    ) where
+        Self: Sized,
+    {
+        for &r in refs {
+            if let Some(h) = prims[r as usize].closest_hit(ray, t_min, t_max) {
+                t_max = keep(r, h);
+            }
+        }
+    }
+}
+
+/// A [`Primitive::closest_hits`] for primitives with a cheap test of four
+/// at once (SIMD lanes): the references are taken four at a time,
+/// `may_hit` says which of the four the ray may hit (bit `k` for the `k`-th;
+/// a chunk shorter than four repeats its last primitive), and
+/// [`Primitive::closest_hit`] tests those. `may_hit` must never clear the
+/// bit of a primitive that `closest_hit` would hit: computing the same
+/// rejection as `closest_hit`, with the same operations in the same order,
+/// guarantees it.
+///
+/// ```
+/// use gridrt_grid::{closest_hits_prefiltered, Aabb, PrimHit, Primitive, Ray, Real, Vec3};
+///
+/// /// A slab `lo <= x <= hi`, hit only by rays that move along x.
+/// struct Slab(Real, Real);
+///
+/// impl Primitive for Slab {
+///     fn bounds(&self) -> Aabb {
+///         Aabb::new(Vec3::new(self.0, -1.0, -1.0), Vec3::new(self.1, 1.0, 1.0))
+///     }
+///     fn closest_hit(&self, ray: &Ray, t0: Real, t1: Real) -> Option<PrimHit> {
+///         let t = (self.0 - ray.origin.x) / ray.dir.x;
+///         (t >= t0 && t <= t1).then_some(PrimHit { t, u: 0.0, v: 0.0 })
+///     }
+///     fn closest_hits(
+///         prims: &[Self],
+///         refs: &[u32],
+///         ray: &Ray,
+///         t_min: Real,
+///         t_max: Real,
+///         keep: &mut impl FnMut(u32, PrimHit) -> Real,
+///     ) {
+///         // A ray that does not move along x misses all four at once.
+///         let moving = if ray.dir.x != 0.0 { 0b1111 } else { 0 };
+///         closest_hits_prefiltered(prims, refs, ray, t_min, t_max, keep, |_| moving);
+///     }
+/// }
+///
+/// let slabs = [Slab(3.0, 4.0), Slab(1.0, 2.0)];
+/// let mut hits = Vec::new();
+/// let ray = Ray::new(Vec3::ZERO, Vec3::X);
+/// Slab::closest_hits(&slabs, &[0, 1], &ray, 0.0, 10.0, &mut |r, h| {
+///     hits.push((r, h.t));
+///     h.t
+/// });
+/// assert_eq!(hits, [(0, 3.0), (1, 1.0)]);
+/// ```
+#[inline(always)]
+pub fn closest_hits_prefiltered<P: Primitive>(
+    prims: &[P],
+    refs: &[u32],
+    ray: &Ray,
+    t_min: Real,
+    mut t_max: Real,
+    keep: &mut impl FnMut(u32, PrimHit) -> Real,
+    mut may_hit: impl FnMut([&P; 4]) -> u32,
+) {
+    for chunk in refs.chunks(4) {
+        let n = chunk.len();
+        let four = std::array::from_fn(|k| &prims[chunk[k.min(n - 1)] as usize]);
+        let mut pass = may_hit(four) & ((1 << n) - 1);
+        while pass != 0 {
+            let k = pass.trailing_zeros() as usize;
+            pass &= pass - 1;
+            if let Some(h) = four[k].closest_hit(ray, t_min, t_max) {
+                t_max = keep(chunk[k], h);
+            }
+        }
+    }
 }
 
 /// A structure that answers ray queries over a set of primitives it owns.

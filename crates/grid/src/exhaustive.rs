@@ -35,6 +35,20 @@ pub struct Exhaustive<P> {
     prims: Vec<P>,
 }
 
+/// Primitives per call of [`Primitive::closest_hits`].
+const BLOCK: usize = 64;
+
+/// The references of a block: its primitives in order.
+static IOTA: [u32; BLOCK] = {
+    let mut a = [0; BLOCK];
+    let mut i = 0;
+    while i < BLOCK {
+        a[i] = i as u32;
+        i += 1;
+    }
+    a
+};
+
 impl<P: Primitive> Exhaustive<P> {
     /// Wraps the primitives; nothing is built.
     #[must_use]
@@ -65,15 +79,28 @@ impl<P: Primitive> Exhaustive<P> {
         }
         let mut best: Option<Hit> = None;
         let mut t_far = t_max;
-        for (i, p) in self.prims.iter().enumerate() {
-            counters.test();
-            // Strictly nearer only: on a tie in t the earlier (lower) index stays.
-            if let Some(h) = p.closest_hit(ray, t_min, t_far) {
-                if best.map_or(true, |b| h.t < b.t) {
-                    t_far = h.t;
-                    best = Some(Hit::new(h, i as u32));
-                }
+        // Blocks of primitives, each tested through `Primitive::closest_hits`
+        // (SIMD where the primitive offers it), with references 0, 1, 2, ….
+        for (b, block) in self.prims.chunks(BLOCK).enumerate() {
+            for _ in block {
+                counters.test();
             }
+            let base = (b * BLOCK) as u32;
+            P::closest_hits(
+                block,
+                &IOTA[..block.len()],
+                ray,
+                t_min,
+                t_far,
+                &mut |r, h| {
+                    // Strictly nearer only: on a tie in t the earlier (lower) index stays.
+                    if best.map_or(true, |b| h.t < b.t) {
+                        best = Some(Hit::new(h, base + r));
+                    }
+                    best.map_or(t_far, |b| b.t)
+                },
+            );
+            t_far = best.map_or(t_far, |b| b.t);
         }
         best
     }

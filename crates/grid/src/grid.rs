@@ -337,6 +337,30 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
     /// Tests the references of one cell.
     #[inline(always)]
     fn test_refs(&mut self, refs: &[u32]) {
+        if !MB {
+            for _ in refs {
+                self.counters.test();
+            }
+            let (ids, best, t_lim) = (self.ids, &mut self.best, self.t_lim);
+            P::closest_hits(
+                self.prims,
+                refs,
+                self.ray,
+                self.t_min,
+                t_lim,
+                &mut |r, h| {
+                    let hit = Hit::new(h, prim_id(ids, r));
+                    if best.as_ref().map_or(true, |b| hit.is_better_than(b)) {
+                        *best = Some(hit);
+                    }
+                    best.map_or(t_lim, |b| b.t)
+                },
+            );
+            if let Some(b) = self.best {
+                self.t_lim = b.t;
+            }
+            return;
+        }
         for &p in refs {
             if MB {
                 debug_assert!((p as usize) < self.stamps.len());

@@ -112,7 +112,7 @@ mod par;
 mod radix;
 mod table;
 
-pub use accel::{Accelerator, Hit, PrimHit, Primitive};
+pub use accel::{closest_hits_prefiltered, Accelerator, Hit, PrimHit, Primitive};
 pub use config::{CellStorage, GridConfig, GridStats};
 pub use counters::{Counters, NoCounters, QueryCounters};
 pub use dda::{CellIter, CellVisit};

@@ -5,7 +5,7 @@
 //! for closest hit and any hit. Case counts are modest so the suite stays fast.
 
 use crate::support::prims::{Shape, Sphere, Triangle};
-use crate::support::{all_configs, Checker};
+use crate::support::{all_configs, same, Checker};
 use gridrt_grid::{GridConfig, Ray, Real, Vec3};
 use proptest::prelude::*;
 
@@ -86,12 +86,34 @@ fn rays(
         .prop_map(|v| v.into_iter().map(|(o, d, (a, b))| (o, d, a, b)).collect())
 }
 
+/// Checks every ray on the scene; a scene of spheres only is checked as
+/// `Sphere`s too, which test four at a time (`Primitive::closest_hits`),
+/// against the `Shape`s' answers, which test one at a time.
 fn run(scene: Vec<Shape>, configs: &[GridConfig], rays: &[(Vec3, Vec3, Real, Real)]) {
+    let spheres: Vec<Sphere> = scene
+        .iter()
+        .filter_map(|s| match s {
+            Shape::Sphere(s) => Some(*s),
+            Shape::Triangle(_) => None,
+        })
+        .collect();
+    let lanes = (spheres.len() == scene.len()).then(|| Checker::new(spheres, configs));
     let c = Checker::new(scene, configs);
     for &(o, d, t0, t1) in rays {
-        c.check(&Ray::new(o, d), t0, t1);
-        // The same line from far away, through the scene.
-        c.check(&Ray::new(o - d * 7.0, d), 0.0, Real::INFINITY);
+        // The ray, and the same line from far away, through the scene.
+        for (ray, t0, t1) in [
+            (Ray::new(o, d), t0, t1),
+            (Ray::new(o - d * 7.0, d), 0.0, Real::INFINITY),
+        ] {
+            let want = c.check(&ray, t0, t1);
+            if let Some(lanes) = &lanes {
+                let got = lanes.check(&ray, t0, t1);
+                assert!(
+                    same(&got, &want),
+                    "four at a time: {got:?}, one at a time: {want:?}"
+                );
+            }
+        }
     }
 }
 
@@ -131,6 +153,17 @@ proptest! {
     ) {
         let mut scene = spheres;
         scene.extend(tris);
+        run(scene, &all_configs(), &rays);
+    }
+
+    #[test]
+    fn spheres_only_tested_four_at_a_time(
+        random in prop::collection::vec(sphere(cont(), 0.01 as Real..1.5), 1..30),
+        lattice in prop::collection::vec(sphere(lattice(), prop::sample::select(vec![0.5 as Real, 1.0, 0.0])), 0..20),
+        rays in rays(-6.0 as Real..6.0, 30),
+    ) {
+        let mut scene = random;
+        scene.extend(lattice);
         run(scene, &all_configs(), &rays);
     }
 

@@ -9,7 +9,7 @@
 // The benches use only some of the shapes.
 #![allow(dead_code)]
 
-use gridrt_grid::{Aabb, PrimHit, Primitive, Ray, Real, Vec3};
+use gridrt_grid::{closest_hits_prefiltered, Aabb, PrimHit, Primitive, Ray, Real, Vec3};
 
 /// A sphere. The intersection follows Haines et al., "Precision Improvements
 /// for Ray/Sphere Intersection" (Ray Tracing Gems, ch. 7): the discriminant
@@ -72,6 +72,40 @@ impl Primitive for Sphere {
         Some(PrimHit { t, u: 0.0, v: 0.0 })
     }
 
+    /// Four spheres at a time: the miss test above in lanes, the same
+    /// operations in the same order (so bit for bit the same verdict), then
+    /// `closest_hit` for the spheres it does not reject.
+    #[inline(always)]
+    fn closest_hits(
+        prims: &[Self],
+        refs: &[u32],
+        ray: &Ray,
+        t_min: Real,
+        t_max: Real,
+        keep: &mut impl FnMut(u32, PrimHit) -> Real,
+    ) {
+        let (o, d) = (ray.origin, ray.dir);
+        let a = d.dot(d);
+        let dl = [d.x, d.y, d.z].map(Lanes::splat);
+        let (al, aa) = (Lanes::splat(a), Lanes::splat(a * a));
+        closest_hits_prefiltered(prims, refs, ray, t_min, t_max, keep, |four| {
+            let m = LaneMat::from_cols_array_2d(
+                &four.map(|s| [s.center.x, s.center.y, s.center.z, s.radius]),
+            )
+            .transpose();
+            let f = [
+                Lanes::splat(o.x) - m.x_axis,
+                Lanes::splat(o.y) - m.y_axis,
+                Lanes::splat(o.z) - m.z_axis,
+            ];
+            let b = f[0] * dl[0] + f[1] * dl[1] + f[2] * dl[2];
+            let r2 = m.w_axis * m.w_axis;
+            let mv = [0, 1, 2].map(|k| f[k] * al - dl[k] * b);
+            let miss = (mv[0] * mv[0] + mv[1] * mv[1] + mv[2] * mv[2]) - aa * r2;
+            miss.cmple(Lanes::ZERO).bitmask()
+        });
+    }
+
     /// The squared distance from the centre to the box against `r²`, with a
     /// little slack so that rounding never culls a touching sphere.
     fn overlaps_box(&self, cell: &Aabb) -> bool {
@@ -99,6 +133,10 @@ pub struct Triangle {
 type Lanes = glam::Vec4;
 #[cfg(feature = "f64")]
 type Lanes = glam::DVec4;
+#[cfg(not(feature = "f64"))]
+type LaneMat = glam::Mat4;
+#[cfg(feature = "f64")]
+type LaneMat = glam::DMat4;
 
 impl Triangle {
     /// A triangle from its vertices.

@@ -1,6 +1,15 @@
 use super::{unit_or, Surface, SurfacePoint};
 use gridrt_bbox::{gamma, Aabb, Ray, Real, Vec3};
-use gridrt_grid::{PrimHit, Primitive};
+use gridrt_grid::{closest_hits_prefiltered, PrimHit, Primitive};
+
+#[cfg(not(feature = "f64"))]
+type Lanes = glam::Vec4;
+#[cfg(feature = "f64")]
+type Lanes = glam::DVec4;
+#[cfg(not(feature = "f64"))]
+type LaneMat = glam::Mat4;
+#[cfg(feature = "f64")]
+type LaneMat = glam::DMat4;
 
 /// A sphere: 16 bytes with `f32` (centre and radius), so a grid of a million
 /// of them stays small.
@@ -116,6 +125,40 @@ impl Primitive for Sphere {
         self.intersect(ray, t_min, t_max).is_some()
     }
 
+    /// Four spheres at a time: the rejection of [`Sphere::roots`] (the
+    /// squared distance from the centre to the ray's line against `r²`) in
+    /// SIMD lanes, with the same operations in the same order, so lane by
+    /// lane the very same verdict; the spheres it keeps go through
+    /// `closest_hit`. Most spheres a grid cell hands over are rejected here.
+    #[inline]
+    fn closest_hits(
+        prims: &[Self],
+        refs: &[u32],
+        ray: &Ray,
+        t_min: Real,
+        t_max: Real,
+        keep: &mut impl FnMut(u32, PrimHit) -> Real,
+    ) {
+        let (o, d) = (ray.origin, ray.dir);
+        let [dx, dy, dz] = [d.x, d.y, d.z].map(Lanes::splat);
+        let a = Lanes::splat(d.dot(d));
+        let slack = Lanes::splat(1.0 + gamma(8));
+        closest_hits_prefiltered(prims, refs, ray, t_min, t_max, keep, |four| {
+            let c = LaneMat::from_cols_array_2d(
+                &four.map(|s| [s.center.x, s.center.y, s.center.z, s.radius]),
+            )
+            .transpose();
+            let fx = Lanes::splat(o.x) - c.x_axis;
+            let fy = Lanes::splat(o.y) - c.y_axis;
+            let fz = Lanes::splat(o.z) - c.z_axis;
+            let s = (fx * dx + fy * dy + fz * dz) / a;
+            let (lx, ly, lz) = (fx - dx * s, fy - dy * s, fz - dz * s);
+            let ll = lx * lx + ly * ly + lz * lz;
+            let r = c.w_axis;
+            ll.cmple(r * r * slack).bitmask()
+        });
+    }
+
     /// Arvo's test: the squared distance from the centre to the box, against
     /// r² with a margin for rounding (never `false` for a touching box).
     #[inline]
@@ -203,5 +246,66 @@ mod tests {
         assert!((dist - 0.5).abs() <= 4.0 * Real::EPSILON * 8.0);
         assert!((sp.n.length() - 1.0).abs() < 1e-5);
         assert!(sp.p_err.max_element() > 0.0);
+    }
+
+    /// Every hit `closest_hits` reports, in order, each `keep` returning `t_max`.
+    fn all_hits(
+        spheres: &[Sphere],
+        refs: &[u32],
+        ray: &Ray,
+        t_max: Real,
+        batched: bool,
+    ) -> Vec<(u32, PrimHit)> {
+        let mut hits = Vec::new();
+        let mut keep = |r: u32, h: PrimHit| {
+            hits.push((r, h));
+            t_max
+        };
+        if batched {
+            Sphere::closest_hits(spheres, refs, ray, 0.0, t_max, &mut keep);
+        } else {
+            for &r in refs {
+                if let Some(h) = spheres[r as usize].closest_hit(ray, 0.0, t_max) {
+                    keep(r, h);
+                }
+            }
+        }
+        hits
+    }
+
+    proptest::proptest! {
+        /// The four-lane rejection keeps exactly the spheres the scalar test
+        /// hits, in every lane of full and partial chunks, for rays through
+        /// random points and rays that graze a sphere (the rejection's edge).
+        #[test]
+        fn four_at_a_time_equals_one_at_a_time(
+            cr in proptest::collection::vec(proptest::array::uniform4(-1.0f32..1.0), 1..12),
+            picks in proptest::collection::vec(0usize..64, 0..12),
+            o in proptest::array::uniform3(-4.0f32..4.0),
+            aim in proptest::array::uniform3(-1.0f32..1.0),
+            graze in proptest::option::of((0usize..64, -1e-5f32..1e-5)),
+            t_max in proptest::prop_oneof![proptest::strategy::Just(f32::INFINITY), 0.0f32..8.0],
+        ) {
+            let spheres: Vec<Sphere> = cr
+                .iter()
+                .map(|c| Sphere::new(Vec3::new(c[0] as Real, c[1] as Real, c[2] as Real), 0.01 + 0.3 * c[3].abs() as Real))
+                .collect();
+            let refs: Vec<u32> = picks.iter().map(|&i| (i % spheres.len()) as u32).collect();
+            let origin = Vec3::new(o[0] as Real, o[1] as Real, o[2] as Real);
+            let mut target = Vec3::new(aim[0] as Real, aim[1] as Real, aim[2] as Real);
+            if let Some((i, e)) = graze {
+                // Aim one radius (times 1 ± e) off the centre, across the ray.
+                let s = spheres[i % spheres.len()];
+                let d = s.center - origin;
+                let side = d.cross(Vec3::Z).try_normalize().unwrap_or(Vec3::X);
+                target = s.center + side * s.radius * (1.0 + e as Real);
+            }
+            let ray = Ray::new(origin, target - origin);
+            let t_max = t_max as Real;
+            proptest::prop_assert_eq!(
+                all_hits(&spheres, &refs, &ray, t_max, true),
+                all_hits(&spheres, &refs, &ray, t_max, false)
+            );
+        }
     }
 }
