@@ -408,7 +408,7 @@ fn main() {
                 vec![CellStorage::Dense, CellStorage::Hashed]
             };
             for &storage in &storages {
-                for m in [0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.5, 3.0] {
+                for m in [0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.5, 3.0] {
                     let c = GridConfig { storage, m, ..base };
                     print_row(&format!("sph{n}"), &c, &measure(&s, &rays, &c, 3));
                 }

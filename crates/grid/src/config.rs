@@ -39,9 +39,11 @@ pub enum CellStorage {
 ///
 /// Chosen by measurement (build plus one 400×400 trace of Suffern's random
 /// spheres for N = 10⁴…10⁶ and of a 1,024,000-triangle mesh; see the
-/// crate's README): `m = 1.25` (about 2 cells per primitive, where the
-/// lecture's `m = 2` gives about 8: cells are what the walk pays for, and the
-/// build's memory and time grow with m³), [`CellStorage::Dense`] (the hashed
+/// crate's README): `m = 0.75` (about 0.4 cells per primitive, where the
+/// lecture's `m = 2` gives about 8: cells are what the walk pays for, the
+/// build's memory and time grow with m³, and primitives that test four at
+/// a time through [`crate::Primitive::closest_hits`] make a cell's
+/// several references cheap), [`CellStorage::Dense`] (the hashed
 /// table is smaller for sparse scenes but every lookup probes a random
 /// slot), box insertion (exact insertion drops about a tenth of the tests
 /// on a triangle mesh, gains no trace time and makes the build ten times
@@ -115,7 +117,7 @@ pub struct GridStats {
 impl Default for GridConfig {
     fn default() -> Self {
         Self {
-            m: 1.25,
+            m: 0.75,
             storage: CellStorage::Dense,
             exact_insertion: false,
             mailbox: false,

@@ -96,9 +96,11 @@ fn flat_and_degenerate_scenes() {
     let line: Vec<Shape> = (0..50)
         .map(|i| Shape::Sphere(Sphere::new(Vec3::new(i as Real, 0.0, 0.0), 0.0)))
         .collect();
-    let g = Grid::build(line, &GridConfig::default());
+    let config = GridConfig::default();
+    let g = Grid::build(line, &config);
     assert_eq!(&g.dims()[1..], &[1, 1]);
-    assert!(g.dims()[0] > 50);
+    // About m cells per sphere along the line (s = length / n).
+    assert_eq!(g.dims()[0], (config.m * 50.0) as u32 + 1);
     // Every object at one point.
     let point = vec![Shape::Sphere(Sphere::new(Vec3::splat(3.0), 0.0)); 20];
     let g = Grid::build(point, &GridConfig::default());
