@@ -86,9 +86,10 @@ fn rays(
         .prop_map(|v| v.into_iter().map(|(o, d, (a, b))| (o, d, a, b)).collect())
 }
 
-/// Checks every ray on the scene; a scene of spheres only is checked as
-/// `Sphere`s too, which test four at a time (`Primitive::closest_hits`),
-/// against the `Shape`s' answers, which test one at a time.
+/// Checks every ray on the scene. A scene of spheres only, or of triangles
+/// only, is checked as `Sphere`s or `Triangle`s too, which test four at a
+/// time (`Primitive::closest_hits`), against the `Shape`s' answers, which
+/// test one at a time.
 fn run(scene: Vec<Shape>, configs: &[GridConfig], rays: &[(Vec3, Vec3, Real, Real)]) {
     let spheres: Vec<Sphere> = scene
         .iter()
@@ -97,7 +98,16 @@ fn run(scene: Vec<Shape>, configs: &[GridConfig], rays: &[(Vec3, Vec3, Real, Rea
             Shape::Triangle(_) => None,
         })
         .collect();
-    let lanes = (spheres.len() == scene.len()).then(|| Checker::new(spheres, configs));
+    let tris: Vec<Triangle> = scene
+        .iter()
+        .filter_map(|s| match s {
+            Shape::Triangle(t) => Some(*t),
+            Shape::Sphere(_) => None,
+        })
+        .collect();
+    let n = scene.len();
+    let sphere_lanes = (spheres.len() == n).then(|| Checker::new(spheres, configs));
+    let tri_lanes = (tris.len() == n && n > 0).then(|| Checker::new(tris, configs));
     let c = Checker::new(scene, configs);
     for &(o, d, t0, t1) in rays {
         // The ray, and the same line from far away, through the scene.
@@ -106,8 +116,11 @@ fn run(scene: Vec<Shape>, configs: &[GridConfig], rays: &[(Vec3, Vec3, Real, Rea
             (Ray::new(o - d * 7.0, d), 0.0, Real::INFINITY),
         ] {
             let want = c.check(&ray, t0, t1);
-            if let Some(lanes) = &lanes {
-                let got = lanes.check(&ray, t0, t1);
+            let got = [
+                sphere_lanes.as_ref().map(|l| l.check(&ray, t0, t1)),
+                tri_lanes.as_ref().map(|l| l.check(&ray, t0, t1)),
+            ];
+            for got in got.into_iter().flatten() {
                 assert!(
                     same(&got, &want),
                     "four at a time: {got:?}, one at a time: {want:?}"

@@ -389,4 +389,42 @@ mod tests {
         assert_eq!(sp.n, Vec3::Z);
         assert!((sp.p - Vec3::new(0.2, 0.3, 0.0)).length() < 1e-6);
     }
+
+    proptest::proptest! {
+        /// The four-lane sign test keeps exactly the triangles the scalar
+        /// test hits, in full and partial chunks, on triangles over a small
+        /// lattice (shared edges and vertices) and rays through lattice
+        /// points (edge functions exactly zero).
+        #[test]
+        fn four_at_a_time_equals_one_at_a_time(
+            corners in proptest::collection::vec(proptest::array::uniform3(0usize..18), 1..12),
+            o in proptest::array::uniform3(-4i32..=4),
+            through in proptest::array::uniform3(-2i32..=2),
+        ) {
+            let p = |i: usize| Vec3::new((i % 3) as Real - 1.0, ((i / 3) % 3) as Real - 1.0, (i / 9) as Real);
+            let tris: Vec<Triangle> = corners.iter().map(|c| Triangle::new(p(c[0]), p(c[1]), p(c[2]))).collect();
+            let refs: Vec<u32> = (0..tris.len() as u32).collect();
+            let origin = Vec3::new(o[0] as Real, o[1] as Real, o[2] as Real + 5.0);
+            let target = Vec3::new(through[0] as Real, through[1] as Real, through[2] as Real) * 0.5;
+            let r = Ray::new(origin, target - origin);
+            let all = |batched: bool| {
+                let mut hits = Vec::new();
+                let mut keep = |i: u32, h: PrimHit| {
+                    hits.push((i, h));
+                    Real::INFINITY
+                };
+                if batched {
+                    Triangle::closest_hits(&tris, &refs, &r, 0.0, Real::INFINITY, &mut keep);
+                } else {
+                    for (i, t) in tris.iter().enumerate() {
+                        if let Some(h) = t.closest_hit(&r, 0.0, Real::INFINITY) {
+                            keep(i as u32, h);
+                        }
+                    }
+                }
+                hits
+            };
+            proptest::prop_assert_eq!(all(true), all(false));
+        }
+    }
 }
