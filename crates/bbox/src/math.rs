@@ -14,6 +14,30 @@ pub type Vec3 = glam::Vec3;
 #[cfg(feature = "f64")]
 pub type Vec3 = glam::DVec3;
 
+/// Four lanes of [`Real`] (SIMD on x86-64): `glam::Vec4`, or `glam::DVec4`
+/// with `f64`. For testing four primitives at once.
+#[cfg(not(feature = "f64"))]
+pub type Lanes = glam::Vec4;
+/// Four lanes of [`Real`] (SIMD on x86-64): `glam::Vec4`, or `glam::DVec4`
+/// with `f64`. For testing four primitives at once.
+#[cfg(feature = "f64")]
+pub type Lanes = glam::DVec4;
+
+/// Four [`Lanes`] as the columns of a matrix, whose `transpose` turns four
+/// records of four values (one a column) into four lanes of each value.
+///
+/// ```
+/// use gridrt_bbox::math::{LaneMat, Lanes};
+/// let m = LaneMat::from_cols_array_2d(&[[1.0, 2.0, 3.0, 4.0]; 4]).transpose();
+/// assert_eq!(m.y_axis, Lanes::splat(2.0));
+/// ```
+#[cfg(not(feature = "f64"))]
+pub type LaneMat = glam::Mat4;
+/// Four [`Lanes`] as the columns of a matrix, whose `transpose` turns four
+/// records of four values (one a column) into four lanes of each value.
+#[cfg(feature = "f64")]
+pub type LaneMat = glam::DMat4;
+
 /// The unit roundoff of [`Real`] (half the machine epsilon): the largest
 /// relative error of one correctly rounded operation.
 pub const UNIT_ROUNDOFF: Real = Real::EPSILON * 0.5;

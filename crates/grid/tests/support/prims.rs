@@ -9,6 +9,7 @@
 // The benches use only some of the shapes.
 #![allow(dead_code)]
 
+use gridrt_bbox::math::{LaneMat, Lanes};
 use gridrt_grid::{closest_hits_prefiltered, Aabb, PrimHit, Primitive, Ray, Real, Vec3};
 
 /// A sphere. The intersection follows Haines et al., "Precision Improvements
@@ -128,15 +129,6 @@ pub struct Triangle {
     /// `x0 x1 x2 y0 y1 y2 z0 z1 z2 0`.
     c: [Real; 10],
 }
-
-#[cfg(not(feature = "f64"))]
-type Lanes = glam::Vec4;
-#[cfg(feature = "f64")]
-type Lanes = glam::DVec4;
-#[cfg(not(feature = "f64"))]
-type LaneMat = glam::Mat4;
-#[cfg(feature = "f64")]
-type LaneMat = glam::DMat4;
 
 impl Triangle {
     /// A triangle from its vertices.

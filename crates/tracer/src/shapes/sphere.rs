@@ -1,15 +1,7 @@
 use super::{unit_or, Surface, SurfacePoint};
+use gridrt_bbox::math::{LaneMat, Lanes};
 use gridrt_bbox::{gamma, Aabb, Ray, Real, Vec3};
 use gridrt_grid::{closest_hits_prefiltered, PrimHit, Primitive};
-
-#[cfg(not(feature = "f64"))]
-type Lanes = glam::Vec4;
-#[cfg(feature = "f64")]
-type Lanes = glam::DVec4;
-#[cfg(not(feature = "f64"))]
-type LaneMat = glam::Mat4;
-#[cfg(feature = "f64")]
-type LaneMat = glam::DMat4;
 
 /// A sphere: 16 bytes with `f32` (centre and radius), so a grid of a million
 /// of them stays small.

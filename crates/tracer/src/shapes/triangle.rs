@@ -1,4 +1,5 @@
 use super::{overlap, unit_or, Surface, SurfacePoint};
+use gridrt_bbox::math::{LaneMat, Lanes};
 use gridrt_bbox::{gamma, Aabb, Ray, Real, Vec3};
 use gridrt_grid::{closest_hits_prefiltered, PrimHit, Primitive};
 
@@ -40,16 +41,6 @@ pub struct Triangle {
     /// start a 4-lane load (the last one's fourth lane is the padding).
     c: [Real; 10],
 }
-
-/// Four lanes of [`Real`].
-#[cfg(not(feature = "f64"))]
-type Lanes = glam::Vec4;
-#[cfg(feature = "f64")]
-type Lanes = glam::DVec4;
-#[cfg(not(feature = "f64"))]
-type LaneMat = glam::Mat4;
-#[cfg(feature = "f64")]
-type LaneMat = glam::DMat4;
 
 impl Triangle {
     /// A triangle from its vertices.
