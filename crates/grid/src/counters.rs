@@ -8,6 +8,14 @@ pub trait Counters {
     fn cell(&mut self);
     /// A primitive's intersection routine was called.
     fn test(&mut self);
+    /// `n` primitives were handed to [`crate::Primitive::closest_hits`]
+    /// (each counts as a test).
+    #[inline(always)]
+    fn tests(&mut self, n: usize) {
+        for _ in 0..n {
+            self.test();
+        }
+    }
     /// A primitive was skipped because the mailbox showed it was already tested.
     fn mailbox_skip(&mut self);
     /// A query started.
@@ -87,6 +95,10 @@ impl Counters for QueryCounters {
     #[inline(always)]
     fn test(&mut self) {
         self.tests += 1;
+    }
+    #[inline(always)]
+    fn tests(&mut self, n: usize) {
+        self.tests += n as u64;
     }
     #[inline(always)]
     fn mailbox_skip(&mut self) {

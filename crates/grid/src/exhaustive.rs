@@ -82,25 +82,24 @@ impl<P: Primitive> Exhaustive<P> {
         // Blocks of primitives, each tested through `Primitive::closest_hits`
         // (SIMD where the primitive offers it), with references 0, 1, 2, ….
         for (b, block) in self.prims.chunks(BLOCK).enumerate() {
-            for _ in block {
-                counters.test();
-            }
+            counters.tests(block.len());
             let base = (b * BLOCK) as u32;
+            let limit = t_far;
             P::closest_hits(
                 block,
                 &IOTA[..block.len()],
                 ray,
                 t_min,
-                t_far,
+                limit,
                 &mut |r, h| {
                     // Strictly nearer only: on a tie in t the earlier (lower) index stays.
                     if best.map_or(true, |b| h.t < b.t) {
                         best = Some(Hit::new(h, base + r));
+                        t_far = h.t;
                     }
-                    best.map_or(t_far, |b| b.t)
+                    t_far
                 },
             );
-            t_far = best.map_or(t_far, |b| b.t);
         }
         best
     }

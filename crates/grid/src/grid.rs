@@ -271,12 +271,19 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
     fn test_prim(&mut self, p: impl FnOnce() -> u32, prim: &P) {
         self.counters.test();
         if let Some(h) = prim.closest_hit(self.ray, self.t_min, self.t_lim) {
-            let hit = Hit::new(h, p());
-            if self.best.as_ref().map_or(true, |b| hit.is_better_than(b)) {
-                self.t_lim = hit.t;
-                self.best = Some(hit);
-            }
+            self.keep(Hit::new(h, p()));
         }
+    }
+
+    /// Keeps `hit` if it is better ([`Hit::is_better_than`]); gives the
+    /// limit for the tests that follow.
+    #[inline(always)]
+    fn keep(&mut self, hit: Hit) -> Real {
+        if self.best.as_ref().map_or(true, |b| hit.is_better_than(b)) {
+            self.t_lim = hit.t;
+            self.best = Some(hit);
+        }
+        self.t_lim
     }
 
     /// Walks the nested grid of a crowded cell instead of testing the
@@ -338,40 +345,24 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
     #[inline(always)]
     fn test_refs(&mut self, refs: &[u32]) {
         if !MB {
-            for _ in refs {
-                self.counters.test();
-            }
-            let (ids, best, t_lim) = (self.ids, &mut self.best, self.t_lim);
-            P::closest_hits(
-                self.prims,
-                refs,
-                self.ray,
-                self.t_min,
-                t_lim,
-                &mut |r, h| {
-                    let hit = Hit::new(h, prim_id(ids, r));
-                    if best.as_ref().map_or(true, |b| hit.is_better_than(b)) {
-                        *best = Some(hit);
-                    }
-                    best.map_or(t_lim, |b| b.t)
-                },
-            );
-            if let Some(b) = self.best {
-                self.t_lim = b.t;
-            }
+            self.counters.tests(refs.len());
+            let (prims, ids, ray, t_min, t_lim) =
+                (self.prims, self.ids, self.ray, self.t_min, self.t_lim);
+            P::closest_hits(prims, refs, ray, t_min, t_lim, &mut |r, h| {
+                self.keep(Hit::new(h, prim_id(ids, r)))
+            });
             return;
         }
+        // With the mailbox, one at a time: each reference's stamp decides.
         for &p in refs {
-            if MB {
-                debug_assert!((p as usize) < self.stamps.len());
-                // SAFETY: `GridScratch::begin` sized the stamps to the primitive count.
-                let s = unsafe { self.stamps.get_unchecked_mut(p as usize) };
-                if *s == self.stamp {
-                    self.counters.mailbox_skip();
-                    continue;
-                }
-                *s = self.stamp;
+            debug_assert!((p as usize) < self.stamps.len());
+            // SAFETY: `GridScratch::begin` sized the stamps to the primitive count.
+            let s = unsafe { self.stamps.get_unchecked_mut(p as usize) };
+            if *s == self.stamp {
+                self.counters.mailbox_skip();
+                continue;
             }
+            *s = self.stamp;
             self.test(p);
         }
     }

@@ -91,23 +91,22 @@ fn rays(
 /// time (`Primitive::closest_hits`), against the `Shape`s' answers, which
 /// test one at a time.
 fn run(scene: Vec<Shape>, configs: &[GridConfig], rays: &[(Vec3, Vec3, Real, Real)]) {
-    let spheres: Vec<Sphere> = scene
-        .iter()
-        .filter_map(|s| match s {
-            Shape::Sphere(s) => Some(*s),
-            Shape::Triangle(_) => None,
-        })
-        .collect();
-    let tris: Vec<Triangle> = scene
-        .iter()
-        .filter_map(|s| match s {
-            Shape::Triangle(t) => Some(*t),
-            Shape::Sphere(_) => None,
-        })
-        .collect();
-    let n = scene.len();
-    let sphere_lanes = (spheres.len() == n).then(|| Checker::new(spheres, configs));
-    let tri_lanes = (tris.len() == n && n > 0).then(|| Checker::new(tris, configs));
+    /// The scene as `T`s, when every shape is one.
+    fn all<T>(scene: &[Shape], f: impl Fn(&Shape) -> Option<T>) -> Option<Vec<T>> {
+        scene.iter().map(f).collect()
+    }
+    let as_sphere = |s: &Shape| match s {
+        Shape::Sphere(s) => Some(*s),
+        Shape::Triangle(_) => None,
+    };
+    let as_triangle = |s: &Shape| match s {
+        Shape::Triangle(t) => Some(*t),
+        Shape::Sphere(_) => None,
+    };
+    let sphere_lanes = all(&scene, as_sphere).map(|v| Checker::new(v, configs));
+    let tri_lanes = all(&scene, as_triangle)
+        .filter(|v| !v.is_empty())
+        .map(|v| Checker::new(v, configs));
     let c = Checker::new(scene, configs);
     for &(o, d, t0, t1) in rays {
         // The ray, and the same line from far away, through the scene.
