@@ -17,6 +17,7 @@ use crate::par::{chunk_bounds, chunk_count, map_indices, SharedMut};
 use crate::radix;
 use crate::table::CellTable;
 use crate::{CellStorage, GridConfig, Primitive};
+use gridrt_bbox::math::Lanes;
 use gridrt_bbox::Aabb;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -64,18 +65,39 @@ pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig, renumber: bo
     let chunks = chunk_count(n, parallel, 1 << 14);
     let parts = map_indices(chunks, parallel, |c| {
         let (s, e) = chunk_bounds(n, chunks, c);
-        let mut b = Aabb::EMPTY;
-        let mut out = Vec::new();
+        // In lanes: min and max without the scalar ones' NaN cases (the
+        // boxes taken are finite), and nothing but the two in the loop, so
+        // that they stay in registers. The primitives left out (rare) are
+        // listed by a second loop.
+        let inf = Lanes::INFINITY;
+        let gridded = |b: &Aabb| {
+            let (min, max) = (b.min.extend(0.0), b.max.extend(0.0));
+            let ok = (min.abs().cmplt(inf) & max.abs().cmplt(inf) & min.cmple(max)).all();
+            (ok, min, max)
+        };
+        let (mut lo, mut hi) = (inf, -inf);
         let mut count = 0usize;
-        for (i, p) in prims[s..e].iter().enumerate() {
-            let pb = p.bounds();
-            if is_gridded(&pb) {
-                b = b.union(pb);
-                count += 1;
-            } else {
-                out.push((s + i) as u32);
+        for (i, p) in (s..).zip(&prims[s..e]) {
+            crate::mem::prefetch_at(prims, i, false);
+            let (ok, min, max) = gridded(&p.bounds());
+            if ok {
+                lo = lo.min(min);
+                hi = hi.max(max);
             }
+            count += usize::from(ok);
         }
+        let out: Vec<u32> = if count == e - s {
+            Vec::new()
+        } else {
+            (s as u32..e as u32)
+                .filter(|&i| !gridded(&prims[i as usize].bounds()).0)
+                .collect()
+        };
+        let b = if count == 0 {
+            Aabb::EMPTY
+        } else {
+            Aabb::new(lo.truncate(), hi.truncate())
+        };
         (b, out, count)
     });
     let mut bounds = Aabb::EMPTY;

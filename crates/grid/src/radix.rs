@@ -103,7 +103,8 @@ pub(crate) fn sort_by_key<T, K>(
             let (s, e) = chunk_bounds(len, chunks, c);
             let mut pos = starts[c].clone();
             let ends: Vec<u32> = pos.iter().zip(&hists[c]).map(|(&p, &h)| p + h).collect();
-            for x in &src[s..e] {
+            for (i, x) in (s..).zip(&src[s..e]) {
+                crate::mem::prefetch_at(src, i, false);
                 let d = digit(x);
                 let p = pos[d];
                 // A histogram that undercounts (the caller's) is refused
@@ -135,7 +136,8 @@ fn histograms<T: Sync>(
     map_indices(chunks, parallel, |c| {
         let (s, e) = chunk_bounds(src.len(), chunks, c);
         let mut h = vec![0u32; buckets];
-        for x in &src[s..e] {
+        for (i, x) in (s..).zip(&src[s..e]) {
+            crate::mem::prefetch_at(src, i, false);
             h[digit(x)] += 1;
         }
         h
