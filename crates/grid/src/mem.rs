@@ -1,5 +1,6 @@
 //! Memory hints: large buffers ask the kernel for transparent huge pages,
-//! and known random reads can be prefetched.
+//! and reads whose addresses are known ahead (the next elements of a pass
+//! in order, or known random reads) can be prefetched.
 //!
 //! A grid over a million primitives fills tens of megabytes of fresh memory
 //! during the build; with 4 KiB pages every page costs a fault and the radix
