@@ -13,8 +13,9 @@
 //! `buildprofile` (only the one-thread build, repeated, for a profiler;
 //! `COPIES=1` builds with copies),
 //! `exhaustive`. `SUFFERN_N` overrides the list of N, `SUFFERN_M` the grid
-//! multiplier and `SUFFERN_NEST` the nesting threshold of the base
-//! configuration; `SUFFERN_MB` (any value) turns its mailbox on. Timings
+//! multiplier, `SUFFERN_NEST` the nesting threshold and `SUFFERN_NEST_M`
+//! the nested grids' multiplier of the base configuration; `SUFFERN_MB`
+//! (any value) turns its mailbox on. Timings
 //! are best of several runs, in one thread (the build also with rayon).
 
 #[path = "../tests/support/prims.rs"]
@@ -264,6 +265,12 @@ fn main() {
         .and_then(|s| s.parse().ok())
     {
         base.nest_min_refs = n;
+    }
+    if let Some(m) = std::env::var("SUFFERN_NEST_M")
+        .ok()
+        .and_then(|s| s.parse().ok())
+    {
+        base.nest_m = Some(m);
     }
     if std::env::var("SUFFERN_MB").is_ok() {
         base.mailbox = true;

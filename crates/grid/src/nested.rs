@@ -68,7 +68,7 @@ impl Nested {
         if crowded.is_empty() {
             return Self::default();
         }
-        let m = geom::sanitize_m(config.m);
+        let m = geom::sanitize_m(config.nest_m.unwrap_or(config.m));
         let mut subs = map_indices(crowded.len(), config.parallel_build, |i| {
             let (idx, start, refs) = crowded[i];
             Sub::build(prims, outer, idx, start, refs, m)

@@ -48,10 +48,11 @@ fn crowded_cells_get_nested_grids_and_stay_exact() {
     let configs: Vec<GridConfig> = [CellStorage::Dense, CellStorage::Hashed]
         .into_iter()
         .flat_map(|storage| {
-            [false, true].map(|mailbox| GridConfig {
+            [(false, None), (true, None), (false, Some(1.5))].map(|(mailbox, nest_m)| GridConfig {
                 storage,
                 mailbox,
                 nest_min_refs: 16,
+                nest_m,
                 ..GridConfig::default()
             })
         })
@@ -96,4 +97,35 @@ fn nesting_cuts_the_tests_per_ray() {
         n * 2 < f,
         "nested grids test {n} primitives, the flat grid {f}"
     );
+}
+
+#[test]
+fn nested_grids_follow_their_own_m() {
+    let tris = stadium();
+    let config = |m: Real, nest_m: Option<Real>| GridConfig {
+        m,
+        nest_min_refs: 16,
+        nest_m,
+        ..GridConfig::default()
+    };
+    let same = Grid::build(tris.clone(), &config(0.5, None));
+    let explicit = Grid::build(tris.clone(), &config(0.5, Some(0.5)));
+    let finer = Grid::build(tris, &config(0.5, Some(1.5)));
+    // The outer grid is the same; `None` means the outer grid's m.
+    assert_eq!(same.dims(), finer.dims());
+    assert_eq!(same.stats().nested_cells, finer.stats().nested_cells);
+    assert_eq!(same.stats().bytes, explicit.stats().bytes);
+    // Finer nested grids hold more cells, so more bytes, and a ray tests
+    // fewer triangles in them.
+    assert!(finer.stats().bytes > same.stats().bytes);
+    let tests = |g: &Grid<Triangle>| {
+        let mut c = QueryCounters::default();
+        let mut s = g.scratch();
+        for ray in rays(500) {
+            g.closest_hit_counted(&ray, 0.0, Real::INFINITY, &mut s, &mut c);
+        }
+        c.tests
+    };
+    let (a, b) = (tests(&same), tests(&finer));
+    assert!(b < a, "nest_m 1.5 tests {b} triangles, the default {a}");
 }

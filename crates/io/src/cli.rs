@@ -122,6 +122,11 @@ pub struct AccelArgs {
     /// empty scene; try with a small --grid-m such as 0.5.
     #[arg(long = "grid-nest", value_name = "N")]
     pub grid_nest: Option<u32>,
+    /// The nested grids' multiplier m, in (0, 1000] (default: the same as
+    /// --grid-m). A coarse outer grid with finer nested grids can pay, such
+    /// as --grid-m 0.3 --grid-nest 8 --grid-nest-m 0.7.
+    #[arg(long = "grid-nest-m", value_name = "M", value_parser = parse_grid_m)]
+    pub grid_nest_m: Option<f64>,
 }
 
 /// `--accel` values.
@@ -173,6 +178,7 @@ impl AccelArgs {
         if let Some(n) = self.grid_nest {
             g.nest_min_refs = n;
         }
+        g.nest_m = self.grid_nest_m.map(|m| m as Real);
         g.storage = match self.accel {
             Accel::HashedGrid => CellStorage::Hashed,
             _ => CellStorage::Dense,

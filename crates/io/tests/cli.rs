@@ -105,6 +105,8 @@ fn render_a_fixture_scene_and_a_model_with_each_accelerator() {
                 "3",
                 "--grid-nest",
                 "2",
+                "--grid-nest-m",
+                "1.5",
             ],
             dir.path(),
         );
@@ -203,6 +205,9 @@ fn usage_errors_exit_with_2() {
     assert_eq!(o.status.code(), Some(2));
     let o = gridrt(&["render", "--grid-m", "-1"], dir.path());
     assert_eq!(o.status.code(), Some(2));
+    let o = gridrt(&["render", "--grid-nest-m", "0"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("out of range"), "{}", stderr(&o));
     let o = gridrt(&["rays"], dir.path());
     assert_eq!(o.status.code(), Some(2));
 }
