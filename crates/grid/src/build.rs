@@ -50,10 +50,20 @@ pub(crate) struct Built {
     pub ids: Box<[u32]>,
 }
 
-/// True when a primitive box can be placed in the grid.
+/// True when a primitive box can be placed in the grid: finite and not empty.
 #[inline]
 pub(crate) fn is_gridded(b: &Aabb) -> bool {
-    b.min.is_finite() && b.max.is_finite() && b.min.cmple(b.max).all()
+    gridded(b).is_some()
+}
+
+/// The corners of a primitive box as [`Lanes`], if [`is_gridded`].
+#[inline(always)]
+fn gridded(b: &Aabb) -> Option<(Lanes, Lanes)> {
+    let (min, max) = (b.min.extend(0.0), b.max.extend(0.0));
+    let inf = Lanes::INFINITY;
+    (min.abs().cmplt(inf) & max.abs().cmplt(inf) & min.cmple(max))
+        .all()
+        .then_some((min, max))
 }
 
 /// Builds the cell structure for `prims`; with `renumber`, the references
@@ -69,28 +79,21 @@ pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig, renumber: bo
         // boxes taken are finite), and nothing but the two in the loop, so
         // that they stay in registers. The primitives left out (rare) are
         // listed by a second loop.
-        let inf = Lanes::INFINITY;
-        let gridded = |b: &Aabb| {
-            let (min, max) = (b.min.extend(0.0), b.max.extend(0.0));
-            let ok = (min.abs().cmplt(inf) & max.abs().cmplt(inf) & min.cmple(max)).all();
-            (ok, min, max)
-        };
-        let (mut lo, mut hi) = (inf, -inf);
+        let (mut lo, mut hi) = (Lanes::INFINITY, Lanes::NEG_INFINITY);
         let mut count = 0usize;
         for (i, p) in (s..).zip(&prims[s..e]) {
             crate::mem::prefetch_at(prims, i, false);
-            let (ok, min, max) = gridded(&p.bounds());
-            if ok {
+            if let Some((min, max)) = gridded(&p.bounds()) {
                 lo = lo.min(min);
                 hi = hi.max(max);
+                count += 1;
             }
-            count += usize::from(ok);
         }
         let out: Vec<u32> = if count == e - s {
             Vec::new()
         } else {
             (s as u32..e as u32)
-                .filter(|&i| !gridded(&prims[i as usize].bounds()).0)
+                .filter(|&i| !is_gridded(&prims[i as usize].bounds()))
                 .collect()
         };
         let b = if count == 0 {

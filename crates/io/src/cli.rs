@@ -119,7 +119,7 @@ pub struct AccelArgs {
     pub grid_m: Option<f64>,
     /// Give every cell with at least N references a nested grid of its own
     /// (0, the default: none). Helps a detailed model in a large, mostly
-    /// empty scene; try with a small --grid-m such as 0.5.
+    /// empty scene; try with a small --grid-m such as 0.3.
     #[arg(long = "grid-nest", value_name = "N")]
     pub grid_nest: Option<u32>,
     /// The nested grids' multiplier m, in (0, 1000] (default: the same as
