@@ -17,6 +17,11 @@
 //! of sorted records that can reach its slab and touches only the offsets
 //! and references of that slab, so no two workers write the same memory
 //! and no atomics are needed. Sequentially there is a single slab.
+//! Counting visits all eight cells of a record's 2×2×2 block and adds 0 or
+//! 1 to each, so it does not branch on the range's shape (1, 2, 4 or 8
+//! cells, nearly at random: a branch mispredicted about once per record);
+//! filling writes the range's cells only, where the branches cost less.
+//! The passes over the records (and over the primitives) prefetch ahead.
 
 use crate::build::{is_gridded, CellsOut};
 use crate::geom::Geom;
