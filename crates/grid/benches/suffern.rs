@@ -496,6 +496,14 @@ fn main() {
                 print_row(&name, &c, &measure(&tris, &rays, &c, 5));
             }
         }
+        // A coarse outer grid with finer nested grids (`nest_m`).
+        let c = GridConfig {
+            m: 0.3,
+            nest_min_refs: 8,
+            nest_m: Some(0.7),
+            ..base
+        };
+        print_row("nest8/0.7", &c, &measure(&tris, &rays, &c, 5));
     }
     if has("meshshadow") {
         // Shadow rays (any hit) toward the book's light from every camera
