@@ -42,6 +42,16 @@ fn rays(n: usize) -> Vec<Ray> {
         .collect()
 }
 
+/// The primitive tests of 500 of [`rays`]' closest-hit queries.
+fn tests(g: &Grid<Triangle>) -> u64 {
+    let mut c = QueryCounters::default();
+    let mut s = g.scratch();
+    for ray in rays(500) {
+        g.closest_hit_counted(&ray, 0.0, Real::INFINITY, &mut s, &mut c);
+    }
+    c.tests
+}
+
 #[test]
 fn crowded_cells_get_nested_grids_and_stay_exact() {
     let tris = stadium();
@@ -84,15 +94,7 @@ fn nesting_cuts_the_tests_per_ray() {
             ..GridConfig::default()
         },
     );
-    let count = |g: &Grid<Triangle>| {
-        let mut c = QueryCounters::default();
-        let mut s = g.scratch();
-        for ray in rays(500) {
-            g.closest_hit_counted(&ray, 0.0, Real::INFINITY, &mut s, &mut c);
-        }
-        c.tests
-    };
-    let (f, n) = (count(&flat), count(&nested));
+    let (f, n) = (tests(&flat), tests(&nested));
     assert!(
         n * 2 < f,
         "nested grids test {n} primitives, the flat grid {f}"
@@ -118,14 +120,6 @@ fn nested_grids_follow_their_own_m() {
     // Finer nested grids hold more cells, so more bytes, and a ray tests
     // fewer triangles in them.
     assert!(finer.stats().bytes > same.stats().bytes);
-    let tests = |g: &Grid<Triangle>| {
-        let mut c = QueryCounters::default();
-        let mut s = g.scratch();
-        for ray in rays(500) {
-            g.closest_hit_counted(&ray, 0.0, Real::INFINITY, &mut s, &mut c);
-        }
-        c.tests
-    };
     let (a, b) = (tests(&same), tests(&finer));
     assert!(b < a, "nest_m 1.5 tests {b} triangles, the default {a}");
 }
