@@ -27,7 +27,7 @@ mod ray;
 
 pub use aabb::Aabb;
 pub use math::{gamma, Real, Vec3};
-pub use ray::{Ray, Shear};
+pub use ray::{Ray, Shear, ShearLanes};
 
 #[cfg(test)]
 mod tests {

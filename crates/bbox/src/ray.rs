@@ -1,4 +1,4 @@
-use crate::math::{Real, Vec3};
+use crate::math::{LaneMat, Lanes, Real, Vec3};
 
 /// A ray `origin + t·dir`.
 ///
@@ -146,6 +146,84 @@ impl Ray {
     #[must_use]
     pub fn at(&self, t: Real) -> Vec3 {
         self.origin + self.dir * t
+    }
+
+    /// The ray's [`Shear`] frame in four lanes, made once per ray, for
+    /// testing four triangles at a time ([`ShearLanes::triangles_may_hit`]).
+    #[inline]
+    #[must_use]
+    pub fn shear_lanes(&self) -> ShearLanes {
+        let [kx, ky, kz] = self.shear.axes;
+        let o: &[Real; 3] = self.origin.as_ref();
+        let [sx, sy, _] = self.shear.s;
+        ShearLanes {
+            axes: self.shear.axes,
+            origin: [o[kx], o[ky], o[kz]].map(Lanes::splat),
+            s: [sx, sy].map(Lanes::splat),
+        }
+    }
+}
+
+/// A ray's [`Shear`] frame splatted into four lanes ([`Ray::shear_lanes`]).
+#[derive(Clone, Copy, Debug)]
+pub struct ShearLanes {
+    axes: [usize; 3],
+    /// The origin's permuted coordinates.
+    origin: [Lanes; 3],
+    /// `[sx, sy]`.
+    s: [Lanes; 2],
+}
+
+impl ShearLanes {
+    /// Of four triangles, the mask (bit `j` for triangle `j`) of those that
+    /// the watertight test's edge functions do not reject: `coord(k)` gives,
+    /// for world axis `k`, each triangle's lanes `(v0[k], v1[k], v2[k], _)`,
+    /// and a triangle is rejected when its three edge functions have both
+    /// signs and none is zero, as the scalar test rejects it first.
+    /// The operations are the scalar test's, in the same order, so each
+    /// lane's verdict is bit for bit the scalar one.
+    ///
+    /// ```
+    /// use gridrt_bbox::math::Lanes;
+    /// use gridrt_bbox::{Ray, Real, Vec3};
+    /// let r = Ray::new(Vec3::new(0.25, 0.25, 1.0), Vec3::new(0.0, 0.0, -1.0));
+    /// // The unit right triangle in z = 0, moved along x by `dx`: per axis,
+    /// // that coordinate of its three vertices.
+    /// let tri = |dx: Real| {
+    ///     [
+    ///         Lanes::new(dx, 1.0 + dx, dx, 0.0),
+    ///         Lanes::new(0.0, 0.0, 1.0, 0.0),
+    ///         Lanes::ZERO,
+    ///     ]
+    /// };
+    /// // Under the ray, beside it, under it again, beside it.
+    /// let four = [tri(0.0), tri(2.0), tri(-0.5), tri(-3.0)];
+    /// let mask = r.shear_lanes().triangles_may_hit(|k| four.map(|t| t[k]));
+    /// assert_eq!(mask, 0b0101);
+    /// ```
+    #[inline(always)]
+    #[must_use]
+    pub fn triangles_may_hit(&self, coord: impl Fn(usize) -> [Lanes; 4]) -> u32 {
+        let [kx, ky, kz] = self.axes;
+        let [ox, oy, oz] = self.origin;
+        let [sx, sy] = self.s;
+        // Coordinate `k` of vertex `i` of the four triangles: row `i`.
+        let rows = |k: usize| {
+            let [a, b, c, d] = coord(k);
+            let m = LaneMat::from_cols(a, b, c, d).transpose();
+            [m.x_axis, m.y_axis, m.z_axis]
+        };
+        let z = rows(kz).map(|c| c - oz);
+        let [x, y] = [(rows(kx), ox, sx), (rows(ky), oy, sy)]
+            .map(|(c, o, s)| [0, 1, 2].map(|i| (c[i] - o) - s * z[i]));
+        let e = [
+            x[2] * y[1] - y[2] * x[1],
+            x[0] * y[2] - y[0] * x[2],
+            x[1] * y[0] - y[1] * x[0],
+        ];
+        let [neg, pos, zero] = [Lanes::cmplt, Lanes::cmpgt, Lanes::cmpeq]
+            .map(|f| e.iter().fold(0, |m, &e| m | f(e, Lanes::ZERO).bitmask()));
+        !(neg & pos & !zero) & 0xf
     }
 }
 

@@ -223,33 +223,9 @@ impl Primitive for Triangle {
         t_max: Real,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
-        let [kx, ky, kz] = ray.shear.axes;
-        let o: &[Real; 3] = ray.origin.as_ref();
-        let [ox, oy, oz] = [o[kx], o[ky], o[kz]].map(Lanes::splat);
-        let [sx, sy, _] = ray.shear.s.map(Lanes::splat);
+        let shear = ray.shear_lanes();
         closest_hits_prefiltered(prims, refs, ray, t_min, t_max, keep, |four| {
-            // Coordinate `k` of vertex `i` of the four triangles: row `i`.
-            let rows = |k: usize| {
-                let m = LaneMat::from_cols(
-                    four[0].lanes(k),
-                    four[1].lanes(k),
-                    four[2].lanes(k),
-                    four[3].lanes(k),
-                )
-                .transpose();
-                [m.x_axis, m.y_axis, m.z_axis]
-            };
-            let z = rows(kz).map(|c| c - oz);
-            let [x, y] = [(rows(kx), ox, sx), (rows(ky), oy, sy)]
-                .map(|(c, o, s)| [0, 1, 2].map(|i| (c[i] - o) - s * z[i]));
-            let e = [
-                x[2] * y[1] - y[2] * x[1],
-                x[0] * y[2] - y[0] * x[2],
-                x[1] * y[0] - y[1] * x[0],
-            ];
-            let [neg, pos, zero] = [Lanes::cmplt, Lanes::cmpgt, Lanes::cmpeq]
-                .map(|f| e.iter().fold(0, |m, &e| m | f(e, Lanes::ZERO).bitmask()));
-            !(neg & pos & !zero)
+            shear.triangles_may_hit(|k| four.map(|t| t.lanes(k)))
         });
     }
 
