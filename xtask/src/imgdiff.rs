@@ -54,6 +54,10 @@ impl Diff {
     }
 }
 
+/// Each channel's difference is multiplied by this in the regression's diff
+/// images.
+pub const DIFF_GAIN: u32 = 32;
+
 /// Compares two images of the same size, given as tightly packed RGB8 bytes.
 /// Returns the numbers and a difference image (each channel's difference
 /// magnified by `gain`, clamped to 255).

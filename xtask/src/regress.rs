@@ -17,7 +17,7 @@
 //! never for a scene whose accelerators disagree) and lists what changed.
 
 use crate::bitdiff::bitwise_diff;
-use crate::imgdiff::{compare, Diff, Tolerance};
+use crate::imgdiff::{compare, Diff, Tolerance, DIFF_GAIN};
 use crate::report::{self, BlessStatus, SceneReport};
 use crate::tolerances;
 use crate::util;
@@ -25,9 +25,6 @@ use gridrt_grid::CellStorage;
 use gridrt_tracer::{render, AccelKind, Framebuffer, RenderOptions, Scene};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
-
-/// Each channel's difference is multiplied by this in the diff images.
-pub const DIFF_GAIN: u32 = 32;
 
 /// Options of `cargo xtask regress`.
 #[derive(Debug, clap::Args)]

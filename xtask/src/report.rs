@@ -1,7 +1,7 @@
 //! What `regress` found per scene, as console lines and an HTML page.
 
 use crate::bitdiff::BitDiff;
-use crate::imgdiff::{Diff, Tolerance};
+use crate::imgdiff::{Diff, Tolerance, DIFF_GAIN};
 use std::fmt::Write as _;
 use std::time::Duration;
 
@@ -192,7 +192,7 @@ framebuffers must equal the exhaustive one bit for bit.</p>
         n = reports.len(),
         secs = elapsed.as_secs_f64(),
         machine = esc(machine),
-        gain = crate::regress::DIFF_GAIN,
+        gain = DIFF_GAIN,
     );
     for r in reports {
         let (cls, res) = if r.failures.is_empty() {
@@ -268,7 +268,7 @@ framebuffers must equal the exhaustive one bit for bit.</p>
             fig(
                 &mut h,
                 format!("{}-diff.png", r.name),
-                &format!("difference × {}", crate::regress::DIFF_GAIN),
+                &format!("difference × {}", DIFF_GAIN),
             );
         }
         if !r.accel_mismatch.is_empty() {

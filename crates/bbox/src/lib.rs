@@ -42,3 +42,8 @@ mod tests {
         assert!(t1 >= 2.0 && t1 <= 2.0 * (1.0 + 2.0 * gamma(3)) + Real::EPSILON);
     }
 }
+
+/// The README's Rust examples, compiled and run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

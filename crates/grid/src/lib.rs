@@ -120,3 +120,8 @@ pub use exhaustive::Exhaustive;
 pub use grid::{Grid, GridScratch};
 pub use gridrt_bbox::{Aabb, Ray, Real, Vec3};
 pub use order::spatial_order;
+
+/// The README's Rust examples, compiled and run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -41,11 +41,15 @@
 //! the command line in `docs/cli.md`.
 //!
 //! # Features
+//! - `cli` (default): the `gridrt` binary and the [`cli`] module, with
+//!   their dependencies (clap, indicatif, ctrlc). Off, the crate is the
+//!   loaders and writers alone.
 //! - `rayon` (default): render and build grids in parallel (passed on to
 //!   gridrt-tracer and gridrt-grid).
 //! - `f64` (off): `Real` is `f64` throughout the stack. Not additive.
 #![warn(missing_docs)]
 
+#[cfg(feature = "cli")]
 pub mod cli;
 mod error;
 mod image_out;
@@ -75,3 +79,9 @@ pub use scene::{
 pub fn write_framebuffer(path: &std::path::Path, fb: &gridrt_tracer::Framebuffer) -> Result<()> {
     write_image(path, fb.width, fb.height, &fb.pixels)
 }
+
+/// The top-level README's Rust examples, compiled and run as doc tests so
+/// they stay true.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeDoctests;

@@ -8,14 +8,13 @@
 //! carries the position of the value. `docs/scene-format.md` documents every
 //! field with an example; keep it in step.
 
+use gridrt_tracer::MAX_PIXELS;
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::Deserialize;
 use std::fmt;
 
 /// Largest image side in pixels.
 pub(crate) const MAX_SIDE: u32 = 16_384;
-/// Largest number of pixels in an image (2^26, e.g. 8192 × 8192).
-pub(crate) const MAX_PIXELS: u64 = 1 << 26;
 /// Largest number of samples per pixel.
 pub(crate) const MAX_SPP: u32 = 65_536;
 /// Largest reflection/refraction depth.

@@ -284,3 +284,8 @@ mod tests {
         assert_eq!(decode3(85 | 1 << 63), (5, 2, 1));
     }
 }
+
+/// The README's Rust examples, compiled and run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

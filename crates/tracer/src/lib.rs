@@ -91,3 +91,8 @@ pub use scene::{
     Camera, Geometry, Light, Material, MaterialId, Mesh, Object, Projection, Rgb, Scene, Settings,
 };
 pub use shapes::{Cuboid, Plane, Shape, Sphere, Triangle};
+
+/// The README's Rust examples, compiled and run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
