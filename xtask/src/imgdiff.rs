@@ -1,4 +1,6 @@
-//! Comparing two 8-bit RGB images: error numbers and a magnified difference image.
+//! Comparing two 8-bit RGB images against a tolerance: the numbers come
+//! from `gridrt_io::diff_values` (what `gridrt diff` prints), plus a
+//! magnified difference image.
 
 use serde::Deserialize;
 
@@ -65,34 +67,22 @@ pub const DIFF_GAIN: u32 = 32;
 /// # Panics
 /// If the buffers differ in length (callers check sizes first).
 pub fn compare(reference: &[u8], actual: &[u8], threshold: u8, gain: u32) -> (Diff, Vec<u8>) {
-    assert_eq!(
-        reference.len(),
-        actual.len(),
-        "images must be the same size"
-    );
-    let mut diff_img = Vec::with_capacity(reference.len());
-    let mut sum_sq = 0.0f64;
-    let mut max_pixel = 0u8;
-    let (mut over, mut differing) = (0usize, 0usize);
-    for (r, a) in reference.chunks_exact(3).zip(actual.chunks_exact(3)) {
-        let mut px_max = 0u8;
-        for c in 0..3 {
-            let d = r[c].abs_diff(a[c]);
-            sum_sq += f64::from(d) * f64::from(d);
-            px_max = px_max.max(d);
-            diff_img.push((u32::from(d) * gain).min(255) as u8);
-        }
-        max_pixel = max_pixel.max(px_max);
-        differing += usize::from(px_max > 0);
-        over += usize::from(px_max > threshold);
-    }
-    let pixels = (reference.len() / 3).max(1);
-    let rmse = (sum_sq / (pixels * 3) as f64).sqrt();
+    let as_f32 = |b: &[u8]| b.iter().map(|&x| f32::from(x)).collect::<Vec<f32>>();
+    // The numbers `gridrt diff` prints, from the same code.
+    let (d, per_channel) =
+        gridrt_io::diff_values(&as_f32(reference), &as_f32(actual), f64::from(threshold));
+    // 8-bit values differ by whole steps of at most 255.
+    let step = |x: f64| x.min(255.0) as u8;
+    let diff_img = per_channel
+        .iter()
+        .map(|&x| (u32::from(step(x)) * gain).min(255) as u8)
+        .collect();
+    let pixels = d.pixels.max(1);
     let diff = Diff {
-        rmse,
-        max_pixel,
-        fraction_over: over as f64 / pixels as f64,
-        pixels_differing: differing,
+        rmse: d.rmse,
+        max_pixel: step(d.max),
+        fraction_over: d.pixels_over as f64 / pixels as f64,
+        pixels_differing: d.pixels_differing,
     };
     (diff, diff_img)
 }

@@ -1,6 +1,8 @@
 //! The `gridrt` command line: argument definitions (clap) and the commands.
 //! `src/main.rs` only parses, calls [`run`] and turns an error into one line.
 
+use crate::cli_farm::{render_part, Rendered};
+pub use crate::cli_farm::{DiffArgs, MergeArgs, PartArgs};
 use crate::error::{Error, Result};
 use crate::image_out::{check_image_path, check_output_dir, write_atomic};
 use crate::model::load_model;
@@ -41,6 +43,12 @@ pub enum Command {
     Info(InfoArgs),
     /// Answer closest-hit queries for rays read from a CSV file.
     Rays(RaysArgs),
+    /// Assemble the parts of a frame (`render --tile` or `--crop`) into
+    /// the full image.
+    Merge(MergeArgs),
+    /// Compare two images (PNG or EXR): pixels differing, mean error, RMSE,
+    /// largest difference; exit code 1 when they differ.
+    Diff(DiffArgs),
 }
 
 /// Options of `gridrt render`.
@@ -73,6 +81,9 @@ pub struct RenderArgs {
     /// Print only errors and warnings, no summary.
     #[arg(short, long)]
     pub quiet: bool,
+    /// A part of the frame (crop window or tile).
+    #[command(flatten)]
+    pub part: PartArgs,
     /// Accelerator options.
     #[command(flatten)]
     pub accel: AccelArgs,
@@ -219,6 +230,8 @@ pub fn run_with_cancel(cli: Cli, out: &mut dyn Write, cancel: &AtomicBool) -> Re
         Some(Command::Render(a)) => render(&a, out, cancel),
         Some(Command::Info(a)) => info(&a, out),
         Some(Command::Rays(a)) => rays(&a, out),
+        Some(Command::Merge(a)) => crate::cli_farm::merge(&a, out),
+        Some(Command::Diff(a)) => crate::cli_farm::diff(&a, out),
     }
 }
 
@@ -262,7 +275,14 @@ fn put(out: &mut dyn Write, text: &str) {
 
 fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()> {
     // Everything that can be checked before rendering is checked first.
-    check_image_path(&a.output)?;
+    let format = check_image_path(&a.output)?;
+    if a.part.spec().is_some() && format != crate::ImageFormat::Exr {
+        return Err(Error::output(
+            &a.output,
+            "a crop or tile is written as .exr, which records its place in the full image; \
+             `gridrt merge` turns the parts into a .png or .exr",
+        ));
+    }
     if let Some(s) = &a.stats {
         check_output_dir(s)?;
     }
@@ -285,14 +305,28 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
             b.set_position(done);
         }
     };
-    let result = renderer.render(&progress, cancel);
+    let result = match a.part.spec() {
+        None => renderer
+            .render(&progress, cancel)
+            .map(|(img, s)| (Rendered::Full(img), s)),
+        Some(spec) => render_part(&renderer, spec, &progress, cancel)?,
+    };
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
-    let (image, stats) = result.map_err(|_| Error::Cancelled)?;
+    let (rendered, stats) = result.map_err(|_| Error::Cancelled)?;
     // A Ctrl-C after the last tile still means "stop, write nothing".
     check_cancel(cancel)?;
-    crate::write_framebuffer(&a.output, &image)?;
+    match rendered {
+        Rendered::Full(image) => crate::write_framebuffer(&a.output, &image)?,
+        Rendered::Part(rects, images) => crate::write_part(
+            &a.output,
+            renderer.size(),
+            &crate::fingerprint(&loaded.scene),
+            &rects,
+            &images,
+        )?,
+    }
 
     let report = Report {
         loaded: &loaded,

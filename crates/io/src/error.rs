@@ -166,6 +166,18 @@ pub enum Error {
         msg: String,
     },
 
+    /// Parts of a frame cannot be merged, or two images cannot be compared:
+    /// a file that is not a part, parts of different renders, overlapping
+    /// parts or missing pixels, images of different sizes. The message
+    /// names the file and says which.
+    #[error("{}: {msg}", .path.display())]
+    Images {
+        /// The part or image at fault.
+        path: PathBuf,
+        /// What is wrong.
+        msg: String,
+    },
+
     /// The render was cancelled (Ctrl-C) before its image was written;
     /// nothing was written and existing files were left as they were. The
     /// binary prints this message without the `error: ` prefix and exits

@@ -51,14 +51,22 @@
 
 #[cfg(feature = "cli")]
 pub mod cli;
+#[cfg(feature = "cli")]
+mod cli_farm;
+mod diff;
 mod error;
 mod image_out;
 mod model;
+mod parts;
 mod random;
 mod rays;
 mod scene;
 mod schema;
 
+pub use diff::{
+    diff_files, diff_values, kind_name, read_image, write_diff_image, ImageDiff, ImageValues,
+    RgbImage,
+};
 pub use error::{Error, Result};
 pub use image_out::{
     check_image_path, check_output_dir, linear_to_srgb, write_atomic, write_image, ImageFormat,
@@ -66,6 +74,7 @@ pub use image_out::{
 pub use model::{
     default_material, load_model, Model, ModelCamera, ModelFormat, ModelMesh, NamedMaterial,
 };
+pub use parts::{fingerprint, merge_parts, write_part, PartSpec, STRIP};
 pub use rays::{format_hits, parse_rays, trace_rays, RayQuery};
 pub use scene::{
     apply_overrides, default_scene, frame, load_scene, parse_scene, scene_from_model, LoadedScene,

@@ -8,6 +8,7 @@
 mod bad_inputs;
 mod cli;
 mod docs;
+mod farm;
 mod fixture_scenes;
 mod models;
 mod shared;

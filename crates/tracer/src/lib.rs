@@ -70,6 +70,7 @@
 mod camera;
 mod error;
 mod float;
+mod framebuffer;
 mod integrator;
 pub mod optics;
 mod plan;
@@ -83,10 +84,11 @@ mod shapes;
 pub mod suffern;
 
 pub use error::{Cancelled, SceneError};
+pub use framebuffer::{Framebuffer, PixelRect};
 pub use gridrt_grid::Accelerator;
 pub use plan::{EffectPlan, IntegratorKind, RayCounts};
 pub use prepare::{SphereSet, MAX_PIXELS};
-pub use render::{render, AccelKind, Framebuffer, RenderOptions, RenderStats, Renderer};
+pub use render::{render, AccelKind, RenderOptions, RenderStats, Renderer};
 pub use scene::{
     Camera, Geometry, Light, Material, MaterialId, Mesh, Object, Projection, Rgb, Scene, Settings,
 };

@@ -3,6 +3,7 @@
 
 use crate::camera::CameraModel;
 use crate::error::{Cancelled, SceneError};
+use crate::framebuffer::{Framebuffer, PixelRect};
 use crate::integrator::{Found, Integrator, Li, SceneData, Shading, ThreadState, Tracer, Whitted};
 use crate::plan::{EffectPlan, RayCounts};
 use crate::prepare::{prepare, Prepared, Prims, SphereSet};
@@ -51,50 +52,6 @@ impl Default for RenderOptions {
             grid: GridConfig::default(),
             threads: None,
         }
-    }
-}
-
-/// A rendered image: linear RGB, row-major, row 0 at the **top**.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Framebuffer {
-    /// Width in pixels.
-    pub width: u32,
-    /// Height in pixels.
-    pub height: u32,
-    /// `width × height` pixels, row 0 first (the top of the image).
-    pub pixels: Vec<Rgb>,
-}
-
-impl Framebuffer {
-    /// A black image.
-    #[must_use]
-    pub fn new(width: u32, height: u32) -> Self {
-        Self {
-            width,
-            height,
-            pixels: vec![Rgb::ZERO; width as usize * height as usize],
-        }
-    }
-
-    /// The pixel in column `x` of row `y` (row 0 at the top).
-    ///
-    /// # Panics
-    /// When `x ≥ width` or `y ≥ height`.
-    #[inline]
-    #[must_use]
-    pub fn get(&self, x: u32, y: u32) -> Rgb {
-        assert!(
-            x < self.width && y < self.height,
-            "pixel ({x}, {y}) outside the image"
-        );
-        self.pixels[y as usize * self.width as usize + x as usize]
-    }
-
-    /// The number of pixels with a NaN or infinite channel (0 for a sound
-    /// render).
-    #[must_use]
-    pub fn non_finite_pixels(&self) -> usize {
-        self.pixels.iter().filter(|p| !p.is_finite()).count()
     }
 }
 
@@ -452,7 +409,50 @@ impl Renderer {
         cancel: &AtomicBool,
     ) -> Result<(Framebuffer, RenderStats), Cancelled> {
         let all: Vec<u32> = (0..self.height).collect();
-        self.render_job(&all, progress, cancel)
+        self.render_job(&all, (0, self.width), progress, cancel)
+    }
+
+    /// Renders only the pixels of `window` (a crop window or one tile of a
+    /// frame split across processes). The answer is an image of the
+    /// window's size whose pixels are bit for bit those of the same region
+    /// of [`Renderer::render`]'s image: a pixel depends only on its
+    /// position in the full image, never on the window or the threads.
+    ///
+    /// ```
+    /// use gridrt_tracer::{suffern, PixelRect, RenderOptions, Renderer};
+    /// use std::sync::atomic::AtomicBool;
+    /// let r = suffern::renderer(100, suffern::DEFAULT_SEED, &RenderOptions::default()).unwrap();
+    /// let never = AtomicBool::new(false);
+    /// let (full, _) = r.render(&|_, _| {}, &never).unwrap();
+    /// let w = PixelRect { x0: 190, y0: 180, x1: 230, y1: 200 };
+    /// let (part, _) = r.render_window(w, &|_, _| {}, &never).unwrap();
+    /// assert_eq!((part.width, part.height), (40, 20));
+    /// assert_eq!(part.get(3, 5), full.get(193, 185));
+    /// ```
+    ///
+    /// # Errors
+    /// [`Cancelled`] when the flag was raised.
+    ///
+    /// # Panics
+    /// When the window is empty or reaches outside the image
+    /// ([`Renderer::size`]).
+    pub fn render_window(
+        &self,
+        window: PixelRect,
+        progress: &(dyn Fn(u64, u64) + Sync),
+        cancel: &AtomicBool,
+    ) -> Result<(Framebuffer, RenderStats), Cancelled> {
+        assert!(
+            window.x0 < window.x1
+                && window.y0 < window.y1
+                && window.x1 <= self.width
+                && window.y1 <= self.height,
+            "window {window:?} is empty or outside a {} x {} image",
+            self.width,
+            self.height
+        );
+        let rows: Vec<u32> = (window.y0..window.y1).collect();
+        self.render_job(&rows, (window.x0, window.x1), progress, cancel)
     }
 
     /// Renders only the image rows listed in `rows` (row 0 at the top; any
@@ -489,12 +489,13 @@ impl Renderer {
         if let Some(&y) = rows.iter().find(|&&y| y >= self.height) {
             panic!("row {y} outside an image {} rows high", self.height);
         }
-        self.render_job(rows, progress, cancel)
+        self.render_job(rows, (0, self.width), progress, cancel)
     }
 
     fn render_job(
         &self,
         rows: &[u32],
+        cols: (u32, u32),
         progress: &(dyn Fn(u64, u64) + Sync),
         cancel: &AtomicBool,
     ) -> Result<(Framebuffer, RenderStats), Cancelled> {
@@ -504,6 +505,7 @@ impl Renderer {
             width: self.width,
             height: self.height,
             rows,
+            cols,
             spp: self.spp,
             progress,
             cancel,
@@ -536,6 +538,7 @@ impl Renderer {
             width: self.width,
             height: self.height,
             rows: &all,
+            cols: (0, self.width),
             spp: 1,
             progress: &|_, _| {},
             cancel: &AtomicBool::new(false),
@@ -635,6 +638,8 @@ struct Job<'a> {
     height: u32,
     /// The image rows to render (row 0 at the top), in output order.
     rows: &'a [u32],
+    /// The image columns to render, `x0..x1`.
+    cols: (u32, u32),
     spp: u32,
     progress: &'a (dyn Fn(u64, u64) + Sync),
     cancel: &'a AtomicBool,
@@ -706,11 +711,12 @@ impl Job<'_> {
     /// Tiles of up to `TILE` columns by `TILE` listed rows.
     fn tiles(&self) -> Vec<Tile> {
         let mut tiles = Vec::new();
+        let (c0, c1) = self.cols;
         for k0 in (0..self.rows.len()).step_by(TILE as usize) {
-            for x0 in (0..self.width).step_by(TILE as usize) {
+            for x0 in (c0..c1).step_by(TILE as usize) {
                 tiles.push(Tile {
                     x0,
-                    x1: (x0 + TILE).min(self.width),
+                    x1: (x0 + TILE).min(c1),
                     k0,
                     k1: (k0 + TILE as usize).min(self.rows.len()),
                 });
@@ -734,7 +740,8 @@ impl Job<'_> {
     {
         let tr = Tracer { accel, data };
         let tiles = self.tiles();
-        let total = u64::from(self.width) * self.rows.len() as u64;
+        let out_width = self.cols.1 - self.cols.0;
+        let total = u64::from(out_width) * self.rows.len() as u64;
         let one = |ts: &mut ThreadState<A::Scratch>, tile: &Tile| -> Option<TileOut> {
             if self.cancel.load(Ordering::Relaxed) {
                 return None;
@@ -754,13 +761,13 @@ impl Job<'_> {
             return Err(Cancelled);
         }
         let height = u32::try_from(self.rows.len()).expect("rows fit an image");
-        let mut image = Framebuffer::new(self.width, height);
+        let mut image = Framebuffer::new(out_width, height);
         let mut rays = RayCounts::default();
         let mut pixels_hit = 0;
         for o in outs.into_iter().flatten() {
             let w = (o.tile.x1 - o.tile.x0) as usize;
             for (row, k) in (o.tile.k0..o.tile.k1).enumerate() {
-                let start = k * self.width as usize + o.tile.x0 as usize;
+                let start = k * out_width as usize + (o.tile.x0 - self.cols.0) as usize;
                 image.pixels[start..start + w].copy_from_slice(&o.pixels[row * w..(row + 1) * w]);
             }
             rays += o.rays;

@@ -1,0 +1,187 @@
+//! The commands for frames split across processes and for comparing
+//! images: `gridrt merge` and `gridrt diff`, and the `--crop`/`--tile`
+//! part of `gridrt render`.
+
+use crate::diff::{diff_files, kind_name, write_diff_image, ImageValues};
+use crate::error::{Error, Result};
+use crate::parts::{merge_parts, PartSpec};
+use clap::Args;
+use gridrt_tracer::{Cancelled, Framebuffer, PixelRect, RenderStats, Renderer};
+use std::io::Write;
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+
+/// Options of `gridrt merge`.
+#[derive(Debug, Clone, Args)]
+pub struct MergeArgs {
+    /// The parts: EXR files written by `gridrt render --tile I/N` or
+    /// `--crop`, which together cover the image once.
+    #[arg(value_name = "PARTS", required = true, num_args = 1..)]
+    pub parts: Vec<PathBuf>,
+    /// The full image: .png (8-bit sRGB) or .exr (linear float), the same
+    /// file a render of the whole frame writes.
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+}
+
+/// Options of `gridrt diff`.
+#[derive(Debug, Clone, Args)]
+pub struct DiffArgs {
+    /// The first image (.png or .exr).
+    #[arg(value_name = "A")]
+    pub a: PathBuf,
+    /// The second image, of the same format and size.
+    #[arg(value_name = "B")]
+    pub b: PathBuf,
+    /// Also write the difference of every channel, magnified by --gain, as
+    /// an image (.png or .exr).
+    #[arg(short, long, value_name = "FILE")]
+    pub output: Option<PathBuf>,
+    /// A pixel counts as "over" when a channel differs by more than this
+    /// (8-bit steps for PNG, linear values for EXR).
+    #[arg(long, value_name = "T", default_value_t = 0.0)]
+    pub threshold: f64,
+    /// Magnification of the difference image.
+    #[arg(long, value_name = "G", default_value_t = 32.0)]
+    pub gain: f32,
+}
+
+/// `--crop` and `--tile` of `gridrt render`: which part of the frame to render.
+#[derive(Debug, Clone, Copy, Args)]
+pub struct PartArgs {
+    /// Render only this window, X0,Y0,X1,Y1 (X1 and Y1 excluded), in
+    /// pixels or, all at most 1, as fractions of the image (0.5,0,1,0.5 is
+    /// the top-right quarter). Writes an EXR part for `gridrt merge`.
+    #[arg(long, value_name = "X0,Y0,X1,Y1", value_parser = PartSpec::parse_crop, conflicts_with = "tile")]
+    pub crop: Option<PartSpec>,
+    /// Render only tile I of N (0-based): interleaved strips of rows, so
+    /// the tiles cost about the same. Writes an EXR part for `gridrt merge`.
+    #[arg(long, value_name = "I/N", value_parser = PartSpec::parse_tile)]
+    pub tile: Option<PartSpec>,
+}
+
+impl PartArgs {
+    /// The part asked for, if any.
+    #[must_use]
+    pub fn spec(&self) -> Option<PartSpec> {
+        self.crop.or(self.tile)
+    }
+}
+
+/// What `gridrt render` rendered.
+pub(crate) enum Rendered {
+    /// The whole frame.
+    Full(Framebuffer),
+    /// A part: its rectangles and their pixels.
+    Part(Vec<PixelRect>, Vec<Framebuffer>),
+}
+
+/// Renders the rectangles of `spec`: one window for a crop, the strips of
+/// a tile in one job.
+pub(crate) fn render_part(
+    renderer: &Renderer,
+    spec: PartSpec,
+    progress: &(dyn Fn(u64, u64) + Sync),
+    cancel: &AtomicBool,
+) -> Result<std::result::Result<(Rendered, RenderStats), Cancelled>> {
+    let (w, h) = renderer.size();
+    let arg = if matches!(spec, PartSpec::Crop(_)) {
+        "--crop"
+    } else {
+        "--tile"
+    };
+    let rects = spec.rects(w, h).map_err(|msg| Error::Arg {
+        arg: arg.into(),
+        msg,
+    })?;
+    if let [one] = rects[..] {
+        return Ok(renderer
+            .render_window(one, progress, cancel)
+            .map(|(img, stats)| (Rendered::Part(rects, vec![img]), stats)));
+    }
+    // Strips of whole rows: one job, cut into the strips afterwards.
+    let rows: Vec<u32> = rects.iter().flat_map(|r| r.y0..r.y1).collect();
+    Ok(renderer
+        .render_rows(&rows, progress, cancel)
+        .map(|(img, stats)| {
+            let mut images = Vec::with_capacity(rects.len());
+            let mut start = 0;
+            for r in &rects {
+                let n = r.width() as usize * r.height() as usize;
+                images.push(Framebuffer {
+                    width: r.width(),
+                    height: r.height(),
+                    pixels: img.pixels[start..start + n].to_vec(),
+                });
+                start += n;
+            }
+            (Rendered::Part(rects, images), stats)
+        }))
+}
+
+/// `gridrt merge`.
+pub(crate) fn merge(a: &MergeArgs, out: &mut dyn Write) -> Result<()> {
+    crate::check_image_path(&a.output)?;
+    let image = merge_parts(&a.parts)?;
+    crate::write_framebuffer(&a.output, &image)?;
+    let _ = writeln!(
+        out,
+        "merged {} parts into {} ({} x {})",
+        a.parts.len(),
+        a.output.display(),
+        image.width,
+        image.height
+    );
+    Ok(())
+}
+
+/// `gridrt diff`: prints the numbers; an error (exit 1) when any pixel
+/// differs, like `cmp`.
+pub(crate) fn diff(a: &DiffArgs, out: &mut dyn Write) -> Result<()> {
+    if let Some(o) = &a.output {
+        crate::check_image_path(o)?;
+    }
+    let (d, diff_image) = diff_files(&a.a, &a.b, a.threshold)?;
+    let unit = match diff_image.kind {
+        ImageValues::Srgb8 => "8-bit steps",
+        ImageValues::Linear => "linear",
+    };
+    let pct = |n: usize| 100.0 * n as f64 / d.pixels.max(1) as f64;
+    let _ = write!(
+        out,
+        "{} vs {}: {} x {}, {}\n\
+         pixels differing  {} of {} ({:.4}%)\n\
+         over threshold    {} ({:.4}%, a channel differs by more than {})\n\
+         mean abs error    {:.6} ({unit})\n\
+         RMSE              {:.6} ({unit})\n\
+         max difference    {} ({unit})\n",
+        a.a.display(),
+        a.b.display(),
+        diff_image.width,
+        diff_image.height,
+        kind_name(diff_image.kind),
+        d.pixels_differing,
+        d.pixels,
+        pct(d.pixels_differing),
+        d.pixels_over,
+        pct(d.pixels_over),
+        a.threshold,
+        d.mean_abs,
+        d.rmse,
+        d.max,
+    );
+    if let Some(o) = &a.output {
+        write_diff_image(o, &diff_image, a.gain)?;
+    }
+    if d.pixels_differing > 0 {
+        return Err(Error::Images {
+            path: a.b.clone(),
+            msg: format!(
+                "differs from {} in {} pixels",
+                a.a.display(),
+                d.pixels_differing
+            ),
+        });
+    }
+    Ok(())
+}
