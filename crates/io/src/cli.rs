@@ -1,8 +1,8 @@
 //! The `gridrt` command line: argument definitions (clap) and the commands.
 //! `src/main.rs` only parses, calls [`run`] and turns an error into one line.
 
-use crate::cli_farm::{render_part, Rendered};
-pub use crate::cli_farm::{DiffArgs, MergeArgs, PartArgs};
+use crate::cli_outputs::{render_part, write_with_aovs, Rendered};
+pub use crate::cli_outputs::{AovArgs, AovList, DiffArgs, MergeArgs, PartArgs};
 use crate::error::{Error, Result};
 use crate::image_out::{check_image_path, check_output_dir, write_atomic};
 use crate::model::load_model;
@@ -84,6 +84,9 @@ pub struct RenderArgs {
     /// A part of the frame (crop window or tile).
     #[command(flatten)]
     pub part: PartArgs,
+    /// Render passes.
+    #[command(flatten)]
+    pub aov: AovArgs,
     /// Accelerator options.
     #[command(flatten)]
     pub accel: AccelArgs,
@@ -230,8 +233,8 @@ pub fn run_with_cancel(cli: Cli, out: &mut dyn Write, cancel: &AtomicBool) -> Re
         Some(Command::Render(a)) => render(&a, out, cancel),
         Some(Command::Info(a)) => info(&a, out),
         Some(Command::Rays(a)) => rays(&a, out),
-        Some(Command::Merge(a)) => crate::cli_farm::merge(&a, out),
-        Some(Command::Diff(a)) => crate::cli_farm::diff(&a, out),
+        Some(Command::Merge(a)) => crate::cli_outputs::merge(&a, out),
+        Some(Command::Diff(a)) => crate::cli_outputs::diff(&a, out),
     }
 }
 
@@ -317,16 +320,17 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     let (rendered, stats) = result.map_err(|_| Error::Cancelled)?;
     // A Ctrl-C after the last tile still means "stop, write nothing".
     check_cancel(cancel)?;
-    match rendered {
-        Rendered::Full(image) => crate::write_framebuffer(&a.output, &image)?,
+    let passes = match rendered {
+        Rendered::Full(image) => write_with_aovs(&a.output, &renderer, &image, a.aov.aov.as_ref())?,
         Rendered::Part(rects, images) => crate::write_part(
             &a.output,
             renderer.size(),
             &crate::fingerprint(&loaded.scene),
             &rects,
             &images,
-        )?,
-    }
+        )
+        .map(|()| Vec::new())?,
+    };
 
     let report = Report {
         loaded: &loaded,
@@ -348,6 +352,9 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
         return Ok(());
     }
     put(out, &report.text());
+    for p in passes {
+        put(out, &format!("pass        {}\n", p.display()));
+    }
     Ok(())
 }
 

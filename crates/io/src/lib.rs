@@ -49,10 +49,11 @@
 //! - `f64` (off): `Real` is `f64` throughout the stack. Not additive.
 #![warn(missing_docs)]
 
+mod aov_out;
 #[cfg(feature = "cli")]
 pub mod cli;
 #[cfg(feature = "cli")]
-mod cli_farm;
+mod cli_outputs;
 mod diff;
 mod error;
 mod image_out;
@@ -63,6 +64,7 @@ mod rays;
 mod scene;
 mod schema;
 
+pub use aov_out::{aov_png_path, parse_aovs, write_aov_pngs, write_exr_with_aovs};
 pub use diff::{
     diff_files, diff_values, kind_name, read_image, write_diff_image, ImageDiff, ImageValues,
     RgbImage,

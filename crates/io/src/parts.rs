@@ -530,7 +530,9 @@ mod tests {
             }
         }
         // A gap, an overlap, another scene.
-        let gap = merge_parts(std::slice::from_ref(&pa)).unwrap_err().to_string();
+        let gap = merge_parts(std::slice::from_ref(&pa))
+            .unwrap_err()
+            .to_string();
         assert!(gap.contains("uncovered") && gap.contains("(0, 2)"), "{gap}");
         let twice = merge_parts(&[pa.clone(), pb.clone(), pa.clone()]).unwrap_err();
         assert!(twice.to_string().contains("overlaps"), "{twice}");

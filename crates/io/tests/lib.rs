@@ -11,6 +11,7 @@ mod docs;
 mod farm;
 mod fixture_scenes;
 mod models;
+mod passes;
 mod shared;
 
 use std::path::PathBuf;

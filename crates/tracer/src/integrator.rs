@@ -148,6 +148,34 @@ pub(crate) struct Shading {
     albedo: Option<Rgb>,
 }
 
+impl Shading {
+    /// Ray parameter of the hit.
+    pub(crate) fn t(&self) -> Real {
+        self.t
+    }
+
+    /// Shading normal, outward.
+    pub(crate) fn normal(&self) -> Vec3 {
+        self.ns
+    }
+
+    /// Index of the material.
+    pub(crate) fn material(&self) -> u32 {
+        self.material
+    }
+
+    /// Diffuse albedo: the primitive's own colour, else its material's
+    /// (1 for glass, the emitted colour for emitters).
+    pub(crate) fn albedo(&self, data: &SceneData) -> Rgb {
+        self.albedo
+            .unwrap_or_else(|| match data.materials.get(self.material as usize) {
+                Some(Material::Emissive { color, .. }) => *color,
+                Some(m) => crate::prepare::albedo(m),
+                None => Rgb::ONE,
+            })
+    }
+}
+
 impl<'a, A> Tracer<'a, A>
 where
     A: Accelerator,

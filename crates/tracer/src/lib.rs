@@ -67,6 +67,7 @@
 // at each use.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod aov;
 mod camera;
 mod error;
 mod float;
@@ -83,6 +84,7 @@ mod serde_support;
 mod shapes;
 pub mod suffern;
 
+pub use aov::{Aov, AovImage};
 pub use error::{Cancelled, SceneError};
 pub use framebuffer::{Framebuffer, PixelRect};
 pub use gridrt_grid::Accelerator;

@@ -379,7 +379,7 @@ fn uncolored(m: &Material) -> Option<Material> {
 }
 
 /// The albedo of a material, as a per-primitive colour table records it.
-fn albedo(m: &Material) -> Rgb {
+pub(crate) fn albedo(m: &Material) -> Rgb {
     match *m {
         Material::Matte { color, .. }
         | Material::Phong { color, .. }

@@ -194,7 +194,7 @@ impl fmt::Debug for Renderer {
 }
 
 /// The worker threads of a renderer.
-struct Pool {
+pub(crate) struct Pool {
     #[cfg(feature = "rayon")]
     pool: Option<rayon::ThreadPool>,
 }
@@ -238,7 +238,7 @@ impl Pool {
 
     /// `f` over `items` with one `init()` state per worker (per rayon
     /// split), in parallel when the pool has threads; results in item order.
-    fn map_init<T, S, R>(
+    pub(crate) fn map_init<T, S, R>(
         &self,
         items: &[T],
         init: impl Fn() -> S + Sync + Send,
@@ -523,6 +523,20 @@ impl Renderer {
                 pixels_hit: out.pixels_hit,
                 grid: self.grid_stats.clone(),
             },
+        ))
+    }
+
+    /// The render passes of `window`, row by row (see
+    /// [`Renderer::render_aovs`]).
+    pub(crate) fn aov_rows(&self, aovs: &[crate::Aov], window: PixelRect) -> Vec<Vec<Vec<f32>>> {
+        with_accel!(&self.accel, |a| crate::aov::rows(
+            a,
+            &self.data,
+            &self.camera,
+            &self.pool,
+            self.height,
+            aovs,
+            window
         ))
     }
 

@@ -1,14 +1,14 @@
-//! The commands for frames split across processes and for comparing
-//! images: `gridrt merge` and `gridrt diff`, and the `--crop`/`--tile`
-//! part of `gridrt render`.
+//! Outputs beyond one image: the `--crop`/`--tile` parts and the `--aov`
+//! passes of `gridrt render`, and the commands `gridrt merge` and
+//! `gridrt diff`.
 
 use crate::diff::{diff_files, kind_name, write_diff_image, ImageValues};
 use crate::error::{Error, Result};
 use crate::parts::{merge_parts, PartSpec};
 use clap::Args;
-use gridrt_tracer::{Cancelled, Framebuffer, PixelRect, RenderStats, Renderer};
+use gridrt_tracer::{Aov, Cancelled, Framebuffer, PixelRect, RenderStats, Renderer};
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
 /// Options of `gridrt merge`.
@@ -58,6 +58,55 @@ pub struct PartArgs {
     /// the tiles cost about the same. Writes an EXR part for `gridrt merge`.
     #[arg(long, value_name = "I/N", value_parser = PartSpec::parse_tile)]
     pub tile: Option<PartSpec>,
+}
+
+/// `--aov` of `gridrt render`: a list of passes.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct AovList(pub Vec<Aov>);
+
+fn parse_aov_list(s: &str) -> std::result::Result<AovList, String> {
+    crate::parse_aovs(s).map(AovList)
+}
+
+/// `--aov` of `gridrt render`.
+#[derive(Debug, Clone, Args)]
+pub struct AovArgs {
+    /// Also write render passes, comma-separated: albedo, normal, depth,
+    /// position, prim-id, material-id, cells-visited, tests (or all). In an
+    /// .exr image they are extra channels (albedo.R, normal.X, depth.Z,
+    /// tests.V, …); beside a .png image, pictures OUT.PASS.png.
+    #[arg(long, value_name = "LIST", value_parser = parse_aov_list, conflicts_with_all = ["crop", "tile"])]
+    pub aov: Option<AovList>,
+}
+
+/// Writes the image, and the passes asked for, where `a.output` says.
+pub(crate) fn write_with_aovs(
+    output: &Path,
+    renderer: &Renderer,
+    image: &Framebuffer,
+    aovs: Option<&AovList>,
+) -> Result<Vec<PathBuf>> {
+    let Some(AovList(list)) = aovs else {
+        crate::write_framebuffer(output, image)?;
+        return Ok(Vec::new());
+    };
+    let (w, h) = renderer.size();
+    let passes = renderer.render_aovs(
+        list,
+        PixelRect {
+            x0: 0,
+            y0: 0,
+            x1: w,
+            y1: h,
+        },
+    );
+    if crate::ImageFormat::from_path(output)? == crate::ImageFormat::Exr {
+        crate::write_exr_with_aovs(output, image, &passes)?;
+        Ok(Vec::new())
+    } else {
+        crate::write_framebuffer(output, image)?;
+        crate::write_aov_pngs(output, &passes)
+    }
 }
 
 impl PartArgs {
