@@ -1,11 +1,13 @@
 //! The `gridrt` command line: argument definitions (clap) and the commands.
 //! `src/main.rs` only parses, calls [`run`] and turns an error into one line.
 
-use crate::error::{Error, Result};
+use crate::error::{escape_control, Error, Result};
 use crate::image_out::{check_image_path, check_output_dir, write_atomic};
-use crate::model::load_model;
+use crate::model::load_model_in;
+use crate::model_scene::apply_overrides;
 use crate::rays::{format_hits, parse_rays, trace_rays};
-use crate::scene::{apply_overrides, default_scene, load_scene, LoadedScene, DEFAULT_SCENE_NAME};
+use crate::sandbox::Sandbox;
+use crate::scene::{default_scene, load_scene_in, LoadedScene, DEFAULT_SCENE_NAME};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use gridrt_bbox::{Aabb, Real, Vec3};
 use gridrt_grid::{CellStorage, Exhaustive, Grid, GridConfig, GridStats};
@@ -76,6 +78,9 @@ pub struct RenderArgs {
     /// Accelerator options.
     #[command(flatten)]
     pub accel: AccelArgs,
+    /// File access and budgets.
+    #[command(flatten)]
+    pub access: AccessArgs,
 }
 
 /// Options of `gridrt info`.
@@ -88,6 +93,9 @@ pub struct InfoArgs {
     /// Accelerator options.
     #[command(flatten)]
     pub accel: AccelArgs,
+    /// File access and budgets.
+    #[command(flatten)]
+    pub access: AccessArgs,
 }
 
 /// Options of `gridrt rays`.
@@ -105,6 +113,70 @@ pub struct RaysArgs {
     /// Accelerator options.
     #[command(flatten)]
     pub accel: AccelArgs,
+    /// File access and budgets.
+    #[command(flatten)]
+    pub access: AccessArgs,
+}
+
+/// What the input may read, and the budgets (see the README's Security
+/// section).
+#[derive(Debug, Clone, Default, Args)]
+pub struct AccessArgs {
+    /// Also let the scene and its models read files under DIR (repeatable).
+    /// By default a scene reads only from its own folder and the working
+    /// directory, and a model file only from its own folder.
+    #[arg(long = "allow-path", value_name = "DIR")]
+    pub allow_path: Vec<PathBuf>,
+    /// Largest file read, in bytes (suffixes K, M, G: powers of 1024);
+    /// default 1G.
+    #[arg(long = "max-file-size", value_name = "BYTES", value_parser = parse_size)]
+    pub max_file_size: Option<u64>,
+    /// Most primitives (spheres, boxes, planes, triangles) the scene may
+    /// expand to; default 50000000.
+    #[arg(long = "max-primitives", value_name = "N")]
+    pub max_primitives: Option<u64>,
+    /// Most nodes a glTF node graph may expand to (a node counts once per
+    /// path from a root); default 1000000.
+    #[arg(long = "max-nodes", value_name = "N")]
+    pub max_nodes: Option<u64>,
+}
+
+fn parse_size(s: &str) -> std::result::Result<u64, String> {
+    let t = s.trim();
+    let (num, shift) = match t.char_indices().last() {
+        Some((i, 'k' | 'K')) => (&t[..i], 10),
+        Some((i, 'm' | 'M')) => (&t[..i], 20),
+        Some((i, 'g' | 'G')) => (&t[..i], 30),
+        _ => (t, 0),
+    };
+    let n: u64 = num
+        .parse()
+        .map_err(|_| format!("`{s}` is not a size: give bytes, or a number with K, M or G"))?;
+    n.checked_mul(1u64 << shift)
+        .ok_or_else(|| format!("`{s}` is too large"))
+}
+
+impl AccessArgs {
+    /// The sandbox for the input `file` (or the working directory alone).
+    ///
+    /// # Errors
+    /// [`Error::Arg`] for an `--allow-path` that is not a folder.
+    pub fn sandbox(&self, file: Option<&Path>) -> Result<Sandbox> {
+        let mut s = file.map_or_else(Sandbox::working_directory, Sandbox::for_input);
+        for d in &self.allow_path {
+            s.allow(d)?;
+        }
+        if let Some(n) = self.max_file_size {
+            s.limits.max_file_bytes = n;
+        }
+        if let Some(n) = self.max_primitives {
+            s.limits.max_primitives = n;
+        }
+        if let Some(n) = self.max_nodes {
+            s.limits.max_nodes = n;
+        }
+        Ok(s)
+    }
 }
 
 /// Accelerator choice, shared by the commands.
@@ -241,17 +313,19 @@ fn check_cancel(cancel: &AtomicBool) -> Result<()> {
 }
 
 /// Loads the scene argument, or the built-in scene.
-fn load(scene: Option<&Path>) -> Result<LoadedScene> {
+fn load(scene: Option<&Path>, access: &AccessArgs) -> Result<LoadedScene> {
+    let sandbox = access.sandbox(scene)?;
     match scene {
-        Some(p) => load_scene(p),
+        Some(p) => load_scene_in(p, &sandbox),
         None => default_scene(),
     }
 }
 
+/// Prints warnings, control characters escaped.
 fn warn(warnings: &[String]) {
     let mut e = std::io::stderr().lock();
     for w in warnings {
-        let _ = writeln!(e, "warning: {w}");
+        let _ = writeln!(e, "warning: {}", escape_control(w));
     }
 }
 
@@ -266,7 +340,7 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     if let Some(s) = &a.stats {
         check_output_dir(s)?;
     }
-    let mut loaded = load(a.scene.as_deref())?;
+    let mut loaded = load(a.scene.as_deref(), &a.access)?;
     // Loading and the grid build are not interruptible; a Ctrl-C during
     // them is honoured as soon as they end.
     check_cancel(cancel)?;
@@ -501,7 +575,7 @@ fn v(p: Vec3) -> String {
 }
 
 fn info(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
-    let loaded = load(a.scene.as_deref())?;
+    let loaded = load(a.scene.as_deref(), &a.access)?;
     warn(&loaded.warnings);
     let s = &loaded.scene;
     let mut t = String::new();
@@ -585,9 +659,10 @@ fn rays(a: &RaysArgs, out: &mut dyn Write) -> Result<()> {
     if let Some(o) = &a.output {
         check_output_dir(o)?;
     }
-    let model = load_model(&a.mesh)?;
+    let sandbox = a.access.sandbox(Some(&a.mesh))?;
+    let model = load_model_in(&a.mesh, &sandbox)?;
     warn(&model.warnings);
-    let bytes = std::fs::read(&a.rays).map_err(|e| Error::read(&a.rays, e))?;
+    let bytes = sandbox.read(&a.rays)?;
     let queries = parse_rays(&String::from_utf8_lossy(&bytes), &a.rays)?;
     let tris: Vec<Triangle> = model
         .triangles()

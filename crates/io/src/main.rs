@@ -28,7 +28,7 @@ fn main() -> ExitCode {
             ExitCode::from(EXIT_INTERRUPTED)
         }
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {}", gridrt_io::escape_control(&e.to_string()));
             ExitCode::FAILURE
         }
     }

@@ -12,6 +12,7 @@ use super::base64;
 use super::{check_normals, to_vec3, ModelCamera, ModelMesh, NamedMaterial, Xform};
 use crate::error::{Error, Result};
 use crate::model::Model;
+use crate::sandbox::{uri_path, Sandbox};
 use glam::{DMat4, DQuat, DVec3};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
@@ -27,15 +28,16 @@ pub(crate) const SPOT_WARNING: &str = "a spot light is rendered as a point light
 /// Deepest node hierarchy accepted (deeper means a cycle or a broken file).
 const MAX_DEPTH: usize = 256;
 
-/// Reads a `.gltf` or `.glb` file.
-pub(crate) fn load(path: &Path) -> Result<Model> {
-    let bytes = std::fs::read(path).map_err(|e| Error::read(path, e))?;
-    check_kind(path, &bytes)?;
+/// Reads a `.gltf` or `.glb` file (`bytes`, read from `real`, named `path`
+/// in messages) and its buffers, from the folders the sandbox allows a
+/// model.
+pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) -> Result<Model> {
+    check_kind(path, bytes)?;
     let gltf =
-        gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| parse_error(path, e))?;
+        gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| parse_error(path, e))?;
     validate(path, &gltf.document)?;
     let doc = &gltf.document;
-    let buffers = load_buffers(path, doc, gltf.blob.clone())?;
+    let buffers = load_buffers(path, real, sandbox, doc, gltf.blob.clone())?;
 
     let mut warnings = Vec::new();
     let materials = doc
@@ -204,9 +206,16 @@ fn validate(path: &Path, doc: &Document) -> Result<()> {
     }
 }
 
-/// Reads every buffer: the GLB binary chunk, a `data:` URI, or a file
-/// relative to the glTF file.
-fn load_buffers(path: &Path, doc: &Document, mut blob: Option<Vec<u8>>) -> Result<Vec<Vec<u8>>> {
+/// Reads every buffer: the GLB binary chunk, a `data:` URI, or a file the
+/// sandbox lets the model read (the URI percent-decoded first, then
+/// resolved against the glTF file's folder, then checked).
+fn load_buffers(
+    path: &Path,
+    real: &Path,
+    sandbox: &Sandbox,
+    doc: &Document,
+    mut blob: Option<Vec<u8>>,
+) -> Result<Vec<Vec<u8>>> {
     let dir = path.parent().unwrap_or_else(|| Path::new(""));
     let mut out = Vec::new();
     for b in doc.buffers() {
@@ -230,27 +239,18 @@ fn load_buffers(path: &Path, doc: &Document, mut blob: Option<Vec<u8>>) -> Resul
                         Error::gltf(path, &place, "only base64 data: URIs are supported")
                     })?;
                     base64::decode(payload).map_err(|e| Error::gltf(path, &place, e))?
-                } else if uri.contains("://") {
-                    return Err(Error::gltf(
-                        path,
-                        &place,
-                        format!(
-                            "URI \"{uri}\" is not a relative file: download it beside the .gltf"
-                        ),
-                    ));
                 } else {
-                    let rel =
-                        base64::percent_decode(uri).map_err(|e| Error::gltf(path, &place, e))?;
-                    let file = dir.join(rel);
-                    std::fs::read(&file).map_err(|e| {
-                        Error::gltf(
+                    let rel = uri_path(uri).map_err(|e| Error::gltf(path, &place, e))?;
+                    let file = sandbox.resolve(real, &rel, true).map_err(|e| match e {
+                        Error::Denied { .. } => e,
+                        other => Error::gltf(
                             path,
                             &place,
-                            format!(
-                                "cannot read {}: {e} (the .bin must sit where the .gltf's URI says)",
-                                file.display()
-                            ),
-                        )
+                            format!("{other} (the .bin must sit where the .gltf's URI says)"),
+                        ),
+                    })?;
+                    sandbox.read(&file).map_err(|e| {
+                        Error::gltf(path, &place, e.renamed(&file, &dir.join(&rel)).to_string())
                     })?
                 }
             }
