@@ -2,7 +2,7 @@
 //! `src/main.rs` only parses, calls [`run`] and turns an error into one line.
 
 use crate::error::{escape_control, Error, Result};
-use crate::image_out::{check_image_path, check_output_dir, write_atomic};
+use crate::image_out::{check_image_path, check_output_dir, stage, stage_image, write_atomic};
 use crate::model::load_model_in;
 use crate::model_scene::apply_overrides;
 use crate::rays::{format_hits, parse_rays, trace_rays};
@@ -132,7 +132,7 @@ pub struct AccessArgs {
     #[arg(long = "max-file-size", value_name = "BYTES", value_parser = parse_size)]
     pub max_file_size: Option<u64>,
     /// Most primitives (spheres, boxes, planes, triangles) the scene may
-    /// expand to; default 50000000.
+    /// expand to; default 10000000.
     #[arg(long = "max-primitives", value_name = "N")]
     pub max_primitives: Option<u64>,
     /// Most nodes a glTF node graph may expand to (a node counts once per
@@ -312,13 +312,51 @@ fn check_cancel(cancel: &AtomicBool) -> Result<()> {
     }
 }
 
-/// Loads the scene argument, or the built-in scene.
-fn load(scene: Option<&Path>, access: &AccessArgs) -> Result<LoadedScene> {
+/// Loads the scene argument, or the built-in scene; returns the sandbox it
+/// was read under (which knows the files read).
+fn load(scene: Option<&Path>, access: &AccessArgs) -> Result<(LoadedScene, Sandbox)> {
     let sandbox = access.sandbox(scene)?;
-    match scene {
-        Some(p) => load_scene_in(p, &sandbox),
-        None => default_scene(),
+    let loaded = match scene {
+        Some(p) => load_scene_in(p, &sandbox)?,
+        None => default_scene()?,
+    };
+    Ok((loaded, sandbox))
+}
+
+/// Refuses outputs that would destroy an input or each other: two outputs
+/// naming the same file, or an output naming a file that was read.
+fn check_outputs(outputs: &[(&str, &Path)], inputs: &[PathBuf]) -> Result<()> {
+    for (k, (flag, out)) in outputs.iter().enumerate() {
+        for (other_flag, other) in &outputs[..k] {
+            if same_file(out, other) {
+                return Err(Error::output(
+                    out,
+                    format!("{flag} and {other_flag} name the same file: give each its own"),
+                ));
+            }
+        }
+        if let Some(input) = inputs.iter().find(|i| same_file(out, i)) {
+            return Err(Error::output(
+                out,
+                format!(
+                    "{flag} names an input of this run ({}): writing it would destroy the input; choose another output path",
+                    input.display()
+                ),
+            ));
+        }
     }
+    Ok(())
+}
+
+/// True when `a` and `b` are the same file: the same device and inode when
+/// both exist, else the same path after resolving links.
+fn same_file(a: &Path, b: &Path) -> bool {
+    #[cfg(unix)]
+    if let (Ok(ma), Ok(mb)) = (std::fs::metadata(a), std::fs::metadata(b)) {
+        use std::os::unix::fs::MetadataExt;
+        return ma.dev() == mb.dev() && ma.ino() == mb.ino();
+    }
+    crate::sandbox::canonical(a) == crate::sandbox::canonical(b)
 }
 
 /// Prints warnings, control characters escaped.
@@ -340,7 +378,13 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     if let Some(s) = &a.stats {
         check_output_dir(s)?;
     }
-    let mut loaded = load(a.scene.as_deref(), &a.access)?;
+    let mut outputs = vec![("-o", a.output.as_path())];
+    if let Some(s) = &a.stats {
+        outputs.push(("--stats", s.as_path()));
+    }
+    check_outputs(&outputs, &a.scene.iter().cloned().collect::<Vec<_>>())?;
+    let (mut loaded, sandbox) = load(a.scene.as_deref(), &a.access)?;
+    check_outputs(&outputs, &sandbox.files_read())?;
     // Loading and the grid build are not interruptible; a Ctrl-C during
     // them is honoured as soon as they end.
     check_cancel(cancel)?;
@@ -366,8 +410,10 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     let (image, stats) = result.map_err(|_| Error::Cancelled)?;
     // A Ctrl-C after the last tile still means "stop, write nothing".
     check_cancel(cancel)?;
-    crate::write_framebuffer(&a.output, &image)?;
-
+    // Both outputs are written to temporary files first; they are renamed
+    // into place only when both are complete, so a failure keeps both old
+    // files byte for byte.
+    let image_file = stage_image(&a.output, image.width, image.height, &image.pixels)?;
     let report = Report {
         loaded: &loaded,
         accel: a.accel,
@@ -376,13 +422,21 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
         stats: &stats,
         output: &a.output,
     };
-    if let Some(p) = &a.stats {
-        let json = serde_json::to_string_pretty(&report.json())
-            .map_err(|e| Error::output(p, format!("cannot encode statistics: {e}")))?;
-        write_atomic(p, |f| {
-            f.write_all(json.as_bytes())?;
-            f.write_all(b"\n")
-        })?;
+    let stats_file = match &a.stats {
+        Some(p) => {
+            let json = serde_json::to_string_pretty(&report.json())
+                .map_err(|e| Error::output(p, format!("cannot encode statistics: {e}")))?;
+            Some(stage(p, |f| {
+                f.write_all(json.as_bytes())?;
+                f.write_all(b"\n")
+            })?)
+        }
+        None => None,
+    };
+    check_cancel(cancel)?;
+    image_file.commit()?;
+    if let Some(f) = stats_file {
+        f.commit()?;
     }
     if a.quiet {
         return Ok(());
@@ -575,7 +629,7 @@ fn v(p: Vec3) -> String {
 }
 
 fn info(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
-    let loaded = load(a.scene.as_deref(), &a.access)?;
+    let (loaded, _) = load(a.scene.as_deref(), &a.access)?;
     warn(&loaded.warnings);
     let s = &loaded.scene;
     let mut t = String::new();
@@ -655,14 +709,29 @@ fn info(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
     Ok(())
 }
 
+/// Runs `f(true)` in a thread pool of its own, or `f(false)` on this thread
+/// when no pool can be started (a container's process limit): rayon's
+/// global pool would panic there.
+fn in_pool<R: Send>(f: impl FnOnce(bool) -> R + Send) -> R {
+    #[cfg(feature = "rayon")]
+    if let Ok(pool) = rayon::ThreadPoolBuilder::new().build() {
+        return pool.install(|| f(true));
+    }
+    f(false)
+}
+
 fn rays(a: &RaysArgs, out: &mut dyn Write) -> Result<()> {
     if let Some(o) = &a.output {
         check_output_dir(o)?;
+        check_outputs(&[("-o", o)], &[a.mesh.clone(), a.rays.clone()])?;
     }
     let sandbox = a.access.sandbox(Some(&a.mesh))?;
     let model = load_model_in(&a.mesh, &sandbox)?;
     warn(&model.warnings);
     let bytes = sandbox.read(&a.rays)?;
+    if let Some(o) = &a.output {
+        check_outputs(&[("-o", o)], &sandbox.files_read())?;
+    }
     let queries = parse_rays(&String::from_utf8_lossy(&bytes), &a.rays)?;
     let tris: Vec<Triangle> = model
         .triangles()
@@ -670,12 +739,14 @@ fn rays(a: &RaysArgs, out: &mut dyn Write) -> Result<()> {
         .collect();
     let n_tris = tris.len();
     let start = Instant::now();
-    let hits = match a.accel.accel {
+    let hits = in_pool(|parallel| match a.accel.accel {
         Accel::Exhaustive => trace_rays(&Exhaustive::new(tris), &queries),
         Accel::Grid | Accel::HashedGrid => {
-            trace_rays(&Grid::build(tris, &a.accel.grid_config()), &queries)
+            let mut config = a.accel.grid_config();
+            config.parallel_build &= parallel;
+            trace_rays(&Grid::build(tris, &config), &queries)
         }
-    };
+    });
     let elapsed = start.elapsed();
     let text = format_hits(&hits);
     match &a.output {

@@ -60,7 +60,8 @@ mod schema;
 
 pub use error::{escape_control, Error, Result};
 pub use image_out::{
-    check_image_path, check_output_dir, linear_to_srgb, write_atomic, write_image, ImageFormat,
+    check_image_path, check_output_dir, linear_to_srgb, stage, stage_image, write_atomic,
+    write_image, ImageFormat, Staged,
 };
 pub use model::{
     default_material, load_model, load_model_in, Model, ModelCamera, ModelFormat, ModelMesh,

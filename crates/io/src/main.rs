@@ -21,6 +21,13 @@ const EXIT_INTERRUPTED: u8 = 130;
 static CANCEL: AtomicBool = AtomicBool::new(false);
 
 fn main() -> ExitCode {
+    #[cfg(unix)]
+    // SAFETY: setting SIGXFSZ to SIG_IGN installs no handler code; with it
+    // ignored, a write past the file-size limit fails with EFBIG (reported,
+    // temporary file removed) instead of killing the process mid-write.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
     match try_main() {
         Ok(()) => ExitCode::SUCCESS,
         Err(e @ gridrt_io::Error::Cancelled) => {

@@ -35,6 +35,7 @@
 use crate::error::{Error, Result};
 use std::io::Read;
 use std::path::{Component, Path, PathBuf};
+use std::sync::{Arc, Mutex};
 
 /// Most symbolic links followed while resolving one reference.
 const MAX_LINKS: usize = 40;
@@ -54,13 +55,14 @@ pub struct Limits {
 }
 
 impl Default for Limits {
-    /// 1 GiB per file, 50 million primitives, 1 million expanded glTF nodes:
-    /// every model in the project's test set is far below each, and a
-    /// scene at the primitive limit needs a few GiB to render.
+    /// 1 GiB per file, 10 million primitives, 1 million expanded glTF nodes:
+    /// every model in the project's test set is far below each (the
+    /// largest has under a million triangles), and a scene at the
+    /// primitive limit needs one to two GiB to render.
     fn default() -> Self {
         Self {
             max_file_bytes: 1 << 30,
-            max_primitives: 50_000_000,
+            max_primitives: 10_000_000,
             max_nodes: 1_000_000,
         }
     }
@@ -99,6 +101,8 @@ pub struct Sandbox {
     allowed: Vec<PathBuf>,
     /// The budgets.
     pub limits: Limits,
+    /// Every file read through this sandbox (shared by its clones).
+    read_log: Arc<Mutex<Vec<PathBuf>>>,
 }
 
 impl Sandbox {
@@ -124,6 +128,7 @@ impl Sandbox {
                 .collect(),
             allowed: Vec::new(),
             limits: Limits::default(),
+            read_log: Arc::default(),
         }
     }
 
@@ -137,6 +142,7 @@ impl Sandbox {
             roots: Vec::new(),
             allowed: Vec::new(),
             limits: Limits::default(),
+            read_log: Arc::default(),
         };
         for d in dirs {
             s.allow(d)?;
@@ -160,6 +166,13 @@ impl Sandbox {
         self.roots.push(canon.clone());
         self.allowed.push(canon);
         Ok(())
+    }
+
+    /// Every file read (or tried) through this sandbox so far: the inputs an
+    /// output must not replace.
+    #[must_use]
+    pub fn files_read(&self) -> Vec<PathBuf> {
+        self.read_log.lock().map(|l| l.clone()).unwrap_or_default()
     }
 
     /// The folders a scene file may read from.
@@ -235,6 +248,9 @@ impl Sandbox {
     /// # Errors
     /// [`Error::Read`], [`Error::NotRegular`], [`Error::Limit`].
     pub fn read(&self, path: &Path) -> Result<Vec<u8>> {
+        if let Ok(mut log) = self.read_log.lock() {
+            log.push(path.to_path_buf());
+        }
         let file = open_regular(path)?;
         let meta = file.metadata().map_err(|e| Error::read(path, e))?;
         if !meta.is_file() {

@@ -266,6 +266,21 @@ impl<'a> Builder<'a> {
         for (name, desc) in &file.materials.0 {
             self.push_material(name.clone(), desc.material());
         }
+        // Generated objects are counted before any is generated.
+        let mut planned = 0u64;
+        for (i, obj) in file.objects.iter().enumerate() {
+            if let ObjectDesc::RandomSpheres { count, .. } = obj {
+                planned = planned.saturating_add(u64::from(count.0));
+                if planned > self.sandbox.limits.max_primitives {
+                    self.current = Some(i);
+                    return Err(self.sandbox.limits.primitives_error(
+                        self.path,
+                        &self.place(None, &format!("objects[{i}]")),
+                        planned,
+                    ));
+                }
+            }
+        }
         for (i, obj) in file.objects.iter().enumerate() {
             self.object(i, obj)?;
         }

@@ -4,6 +4,7 @@
 
 pub(crate) mod base64;
 mod gltf;
+mod gltf_graph;
 mod obj;
 
 pub(crate) use self::gltf::SPOT_WARNING;
