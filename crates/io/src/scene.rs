@@ -173,6 +173,15 @@ fn v3(v: [f64; 3]) -> Vec3 {
     Vec3::new(v[0] as Real, v[1] as Real, v[2] as Real)
 }
 
+/// A number as written in a message: exponent form when it is huge or tiny.
+fn num(x: f64) -> String {
+    if x != 0.0 && !(1e-4..1e15).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
 /// The unit vector along `v` (finite, non-zero), computed without
 /// overflow: `(1e300, 0, 0)` is `(1, 0, 0)`, not a zero vector.
 fn unit(v: [f64; 3]) -> DVec3 {
@@ -243,7 +252,7 @@ impl<'a> Builder<'a> {
                 self.place(Some(field), what),
                 format!(
                     "{field} ({}, {}, {}) is beyond the range of {}-bit numbers (about ±{:.1e}): scale the scene down",
-                    v[0], v[1], v[2], 8 * std::mem::size_of::<Real>(), Real::MAX
+                    num(v[0]), num(v[1]), num(v[2]), 8 * std::mem::size_of::<Real>(), Real::MAX
                 ),
             ))
         }
@@ -469,7 +478,8 @@ impl<'a> Builder<'a> {
                         self.path,
                         self.place(Some("radius"), &what),
                         format!(
-                            "radius {r} takes the sphere beyond the range of {}-bit numbers (about ±{:.1e}): scale the scene down",
+                            "radius {} takes the sphere beyond the range of {}-bit numbers (about ±{:.1e}): scale the scene down",
+                            num(r),
                             8 * std::mem::size_of::<Real>(),
                             Real::MAX
                         ),

@@ -12,6 +12,7 @@ mod fixture_scenes;
 mod models;
 mod shared;
 mod untrusted;
+mod untrusted_messages;
 mod untrusted_outputs;
 
 use std::path::PathBuf;

@@ -36,6 +36,7 @@ const MAX_DEPTH: usize = 256;
 /// model.
 pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) -> Result<Model> {
     check_kind(path, bytes)?;
+    let bytes = super::obj::strip_bom(bytes);
     let gltf =
         gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| parse_error(path, e))?;
     validate(path, &gltf.document)?;

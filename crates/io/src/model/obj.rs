@@ -30,7 +30,7 @@ pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) ->
             "the file is binary, not OBJ text (is it really an OBJ?)",
         ));
     }
-    let text = String::from_utf8_lossy(bytes);
+    let text = String::from_utf8_lossy(strip_bom(bytes));
     let mut warnings = Vec::new();
     validate_obj(path, &text, &mut warnings)?;
 
@@ -118,6 +118,11 @@ pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) ->
         lights: Vec::new(),
         warnings,
     })
+}
+
+/// `bytes` without a UTF-8 byte-order mark.
+pub(crate) fn strip_bom(bytes: &[u8]) -> &[u8] {
+    bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes)
 }
 
 /// The file name for mesh names (`cube.obj`).
@@ -302,11 +307,10 @@ fn check_vertex_ref(word: &str, counts: [usize; 3]) -> std::result::Result<(), S
         let idx: i64 = p
             .parse()
             .map_err(|_| format!("bad face vertex `{word}`: `{p}` is not an integer index"))?;
-        let n = counts[k] as i64;
-        let ok = if idx > 0 {
-            idx <= n
-        } else if idx < 0 {
-            -idx <= n
+        let n = counts[k] as u64;
+        // unsigned_abs: -9223372036854775808 has no i64 negation.
+        let ok = if idx != 0 {
+            idx.unsigned_abs() <= n
         } else {
             return Err(format!(
                 "face index 0 in `{word}`: OBJ indices start at 1 (or count back from -1)"
@@ -347,7 +351,7 @@ fn load_mtl(
             return fail;
         }
     };
-    let text = String::from_utf8_lossy(&bytes);
+    let text = String::from_utf8_lossy(strip_bom(&bytes));
     match normalize_mtl(path, &text) {
         Ok(fixed) => tobj::load_mtl_buf(&mut Cursor::new(fixed.as_bytes())).inspect_err(|e| {
             *error.borrow_mut() = Some(Error::obj(
@@ -406,6 +410,13 @@ fn normalize_mtl(path: &Path, text: &str) -> Result<String> {
                     "`illum` needs an illumination model 0 to 10, found `{}`",
                     line.trim()
                 )));
+            }
+            // Textures are not used; their statements (tobj rejects a
+            // bare `map_Kd`, which would lose every material) are dropped.
+            k if k.starts_with("map_")
+                || matches!(k, "bump" | "disp" | "decal" | "refl" | "norm") =>
+            {
+                continue;
             }
             "newmtl" if line.trim().len() <= "newmtl".len() => {
                 return Err(err("`newmtl` needs a material name".to_string()));
