@@ -413,13 +413,47 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     // Both outputs are written to temporary files first; they are renamed
     // into place only when both are complete, so a failure keeps both old
     // files byte for byte.
-    let image_file = stage_image(&a.output, image.width, image.height, &image.pixels)?;
+    WRITING.store(true, Ordering::SeqCst);
+    let written = write_outputs(a, &loaded, &renderer, &image, &stats, cancel);
+    WRITING.store(false, Ordering::SeqCst);
+    written?;
+    if a.quiet {
+        return Ok(());
+    }
     let report = Report {
         loaded: &loaded,
         accel: a.accel,
         threads: a.threads,
         primitives: renderer.primitive_count(),
         stats: &stats,
+        output: &a.output,
+    };
+    put(out, &report.text());
+    Ok(())
+}
+
+/// True while `render` writes its outputs: the binary's second Ctrl-C
+/// waits for it rather than exiting, so no temporary file is left.
+pub static WRITING: AtomicBool = AtomicBool::new(false);
+
+/// Writes the image and the statistics: both to temporary files first,
+/// renamed into place only when both are complete, so a failure (or a
+/// Ctrl-C) keeps both old files byte for byte.
+fn write_outputs(
+    a: &RenderArgs,
+    loaded: &LoadedScene,
+    renderer: &Renderer,
+    image: &gridrt_tracer::Framebuffer,
+    stats: &RenderStats,
+    cancel: &AtomicBool,
+) -> Result<()> {
+    let image_file = stage_image(&a.output, image.width, image.height, &image.pixels)?;
+    let report = Report {
+        loaded,
+        accel: a.accel,
+        threads: a.threads,
+        primitives: renderer.primitive_count(),
+        stats,
         output: &a.output,
     };
     let stats_file = match &a.stats {
@@ -438,10 +472,6 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     if let Some(f) = stats_file {
         f.commit()?;
     }
-    if a.quiet {
-        return Ok(());
-    }
-    put(out, &report.text());
     Ok(())
 }
 

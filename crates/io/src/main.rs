@@ -47,7 +47,12 @@ fn try_main() -> gridrt_io::Result<()> {
         // ctrlc runs this on its own thread, not in the signal handler, so
         // printing and exiting here are safe.
         let handler = || {
-            if CANCEL.swap(true, Ordering::SeqCst) {
+            // A second Ctrl-C exits at once, except while the outputs are
+            // written (a moment): then the write finishes, is discarded,
+            // and no temporary file is left.
+            if CANCEL.swap(true, Ordering::SeqCst)
+                && !gridrt_io::cli::WRITING.load(Ordering::SeqCst)
+            {
                 eprintln!("{}", gridrt_io::Error::Cancelled);
                 std::process::exit(i32::from(EXIT_INTERRUPTED));
             }
