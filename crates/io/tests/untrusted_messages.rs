@@ -111,6 +111,18 @@ fn obj_and_mtl_edge_cases() {
     let m = gridrt_io::load_model(&obj).unwrap();
     assert_eq!(m.materials.len(), 1, "{:?}", m.warnings);
     assert_eq!(m.materials[0].name, "red");
+    // `usemtl` without a name is an error on its line; `mtllib` without a
+    // file a warning.
+    std::fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl\nf 1 2 3\n").unwrap();
+    let e = gridrt_io::load_model(&obj).unwrap_err().to_string();
+    assert!(e.contains("m.obj:4: `usemtl` needs"), "{e}");
+    std::fs::write(&obj, "mtllib\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let m = gridrt_io::load_model(&obj).unwrap();
+    assert!(
+        m.warnings.iter().any(|w| w.contains("names no file")),
+        "{:?}",
+        m.warnings
+    );
 }
 
 #[test]

@@ -47,6 +47,13 @@ pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) ->
         if mtl_error.borrow().is_some() {
             return Err(tobj::LoadError::MaterialParseError);
         }
+        if mtl.as_os_str().is_empty() {
+            mtl_warnings.borrow_mut().push(format!(
+                "{}: an `mtllib` line names no file; its materials use the default",
+                path.display()
+            ));
+            return Err(tobj::LoadError::OpenFileFailed);
+        }
         let shown = dir.join(mtl);
         match sandbox.resolve(real, Path::new(mtl), true) {
             Ok(file) => load_mtl(&shown, &file, sandbox, &mtl_error, &mtl_warnings),
@@ -266,6 +273,11 @@ fn validate_obj(path: &Path, text: &str, warnings: &mut Vec<String>) -> Result<(
                     ))
                 })?;
                 nvn += 1;
+            }
+            "usemtl" if words.next().is_none() => {
+                return Err(err(
+                    "`usemtl` needs the name of a material from the `mtllib`".to_string(),
+                ));
             }
             "f" | "l" => {
                 let mut count = 0;
