@@ -278,7 +278,7 @@ fn check_scene(
     bless: bool,
 ) -> Result<(), String> {
     let name = rep.name.clone();
-    let loaded = gridrt_io::load_scene(path).map_err(|e| e.to_string())?;
+    let loaded = crate::util::load_scene(path).map_err(|e| e.to_string())?;
     rep.warnings = loaded.warnings.clone();
     let scene = &loaded.scene;
     rep.size = (scene.settings.width, scene.settings.height);
@@ -406,7 +406,7 @@ mod tests {
     fn every_fixture_scene_loads_and_has_a_reference() {
         let root = util::root();
         for (name, path) in scene_files(&root.join("fixtures/scenes")).unwrap() {
-            let loaded = gridrt_io::load_scene(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let loaded = crate::util::load_scene(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
             let s = &loaded.scene.settings;
             let png = root.join(format!("fixtures/reference/{name}.png"));
             let (w, h, _) = read_rgb8(&png).unwrap_or_else(|e| panic!("{e}"));

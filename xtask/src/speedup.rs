@@ -461,7 +461,7 @@ mod tests {
     #[test]
     fn the_fixture_scene_is_the_benchmark() {
         let path = util::root().join("fixtures/scenes/speedup.ron");
-        let loaded = gridrt_io::load_scene(&path).unwrap();
+        let loaded = crate::util::load_scene(&path).unwrap();
         assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
         assert!(
             loaded.scene == suffern::scene(1000),

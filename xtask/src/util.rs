@@ -9,6 +9,18 @@ pub fn root() -> PathBuf {
     manifest.parent().unwrap_or(manifest).to_path_buf()
 }
 
+/// Loads a scene of the repository (a fixture scene names meshes in
+/// `fixtures/meshes`, outside its own folder): the default sandbox of the
+/// scene with `fixtures/` allowed too.
+///
+/// # Errors
+/// As [`gridrt_io::load_scene_in`].
+pub fn load_scene(path: &Path) -> gridrt_io::Result<gridrt_io::LoadedScene> {
+    let mut sandbox = gridrt_io::Sandbox::for_input(path);
+    sandbox.allow(&root().join("fixtures"))?;
+    gridrt_io::load_scene_in(path, &sandbox)
+}
+
 /// Cargo's target directory: `$CARGO_TARGET_DIR`, else `<root>/target`.
 pub fn target_dir() -> PathBuf {
     match std::env::var_os("CARGO_TARGET_DIR") {

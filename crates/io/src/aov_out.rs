@@ -2,6 +2,7 @@
 //! PNG pictures beside a PNG image.
 
 use crate::error::Result;
+use crate::image_out::Staged;
 use exr::prelude::{
     AnyChannel, AnyChannels, Encoding, FlatSamples, Image, ImageAttributes, IntegerBounds, Layer,
     LayerAttributes, WritableImage,
@@ -56,6 +57,14 @@ fn channel_names(aov: Aov) -> Vec<String> {
 /// # Errors
 /// As [`crate::write_atomic`].
 pub fn write_exr_with_aovs(path: &Path, image: &Framebuffer, aovs: &[AovImage]) -> Result<()> {
+    stage_exr_with_aovs(path, image, aovs)?.commit()
+}
+
+/// [`write_exr_with_aovs`] up to the rename (see [`crate::stage`]).
+///
+/// # Errors
+/// As [`crate::write_atomic`].
+pub fn stage_exr_with_aovs(path: &Path, image: &Framebuffer, aovs: &[AovImage]) -> Result<Staged> {
     let plane = |f: fn(&Rgb) -> f32| FlatSamples::F32(image.pixels.iter().map(f).collect());
     let mut channels = vec![
         AnyChannel::new("R", plane(|p| p.x)),
@@ -80,7 +89,7 @@ pub fn write_exr_with_aovs(path: &Path, image: &Framebuffer, aovs: &[AovImage]) 
         ImageAttributes::new(IntegerBounds::from_dimensions(size)),
         vec![layer],
     );
-    crate::write_atomic(path, |file| {
+    crate::stage(path, |file| {
         let mut w = std::io::BufWriter::new(file);
         out.write()
             .non_parallel()
@@ -212,13 +221,23 @@ fn srgb_decode(s: f32) -> f32 {
 /// # Errors
 /// As [`crate::write_image`].
 pub fn write_aov_pngs(image: &Path, aovs: &[AovImage]) -> Result<Vec<PathBuf>> {
+    let staged = stage_aov_pngs(image, aovs)?;
     let mut written = Vec::new();
-    for a in aovs {
-        let p = aov_png_path(image, a.aov);
-        crate::write_image(&p, a.width, a.height, &picture(a))?;
-        written.push(p);
+    for (a, s) in aovs.iter().zip(staged) {
+        s.commit()?;
+        written.push(aov_png_path(image, a.aov));
     }
     Ok(written)
+}
+
+/// [`write_aov_pngs`] up to the renames (see [`crate::stage`]).
+///
+/// # Errors
+/// As [`crate::write_image`].
+pub fn stage_aov_pngs(image: &Path, aovs: &[AovImage]) -> Result<Vec<Staged>> {
+    aovs.iter()
+        .map(|a| crate::stage_image(&aov_png_path(image, a.aov), a.width, a.height, &picture(a)))
+        .collect()
 }
 
 #[cfg(test)]

@@ -1,13 +1,15 @@
 //! The `gridrt` command line: argument definitions (clap) and the commands.
 //! `src/main.rs` only parses, calls [`run`] and turns an error into one line.
 
-use crate::cli_outputs::{render_part, write_with_aovs, Rendered};
+use crate::cli_outputs::{pass_paths, render_part, stage_rendered, Rendered};
 pub use crate::cli_outputs::{AovArgs, AovList, DiffArgs, MergeArgs, PartArgs};
-use crate::error::{Error, Result};
-use crate::image_out::{check_image_path, check_output_dir, write_atomic};
-use crate::model::load_model;
+use crate::error::{escape_control, Error, Result};
+use crate::image_out::{check_image_path, check_output_dir, stage, write_atomic};
+use crate::model::load_model_in;
+use crate::model_scene::apply_overrides;
 use crate::rays::{format_hits, parse_rays, trace_rays};
-use crate::scene::{apply_overrides, default_scene, load_scene, LoadedScene, DEFAULT_SCENE_NAME};
+use crate::sandbox::Sandbox;
+use crate::scene::{default_scene, load_scene_in, LoadedScene, DEFAULT_SCENE_NAME};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use gridrt_bbox::{Aabb, Real, Vec3};
 use gridrt_grid::{CellStorage, Exhaustive, Grid, GridConfig, GridStats};
@@ -90,6 +92,9 @@ pub struct RenderArgs {
     /// Accelerator options.
     #[command(flatten)]
     pub accel: AccelArgs,
+    /// File access and budgets.
+    #[command(flatten)]
+    pub access: AccessArgs,
 }
 
 /// Options of `gridrt info`.
@@ -102,6 +107,9 @@ pub struct InfoArgs {
     /// Accelerator options.
     #[command(flatten)]
     pub accel: AccelArgs,
+    /// File access and budgets.
+    #[command(flatten)]
+    pub access: AccessArgs,
 }
 
 /// Options of `gridrt rays`.
@@ -119,6 +127,70 @@ pub struct RaysArgs {
     /// Accelerator options.
     #[command(flatten)]
     pub accel: AccelArgs,
+    /// File access and budgets.
+    #[command(flatten)]
+    pub access: AccessArgs,
+}
+
+/// What the input may read, and the budgets (see the README's Security
+/// section).
+#[derive(Debug, Clone, Default, Args)]
+pub struct AccessArgs {
+    /// Also let the scene and its models read files under DIR (repeatable).
+    /// By default a scene reads only from its own folder and the working
+    /// directory, and a model file only from its own folder.
+    #[arg(long = "allow-path", value_name = "DIR")]
+    pub allow_path: Vec<PathBuf>,
+    /// Largest file read, in bytes (suffixes K, M, G: powers of 1024);
+    /// default 1G.
+    #[arg(long = "max-file-size", value_name = "BYTES", value_parser = parse_size)]
+    pub max_file_size: Option<u64>,
+    /// Most primitives (spheres, boxes, planes, triangles) the scene may
+    /// expand to; default 10000000.
+    #[arg(long = "max-primitives", value_name = "N")]
+    pub max_primitives: Option<u64>,
+    /// Most nodes a glTF node graph may expand to (a node counts once per
+    /// path from a root); default 1000000.
+    #[arg(long = "max-nodes", value_name = "N")]
+    pub max_nodes: Option<u64>,
+}
+
+fn parse_size(s: &str) -> std::result::Result<u64, String> {
+    let t = s.trim();
+    let (num, shift) = match t.char_indices().last() {
+        Some((i, 'k' | 'K')) => (&t[..i], 10),
+        Some((i, 'm' | 'M')) => (&t[..i], 20),
+        Some((i, 'g' | 'G')) => (&t[..i], 30),
+        _ => (t, 0),
+    };
+    let n: u64 = num
+        .parse()
+        .map_err(|_| format!("`{s}` is not a size: give bytes, or a number with K, M or G"))?;
+    n.checked_mul(1u64 << shift)
+        .ok_or_else(|| format!("`{s}` is too large"))
+}
+
+impl AccessArgs {
+    /// The sandbox for the input `file` (or the working directory alone).
+    ///
+    /// # Errors
+    /// [`Error::Arg`] for an `--allow-path` that is not a folder.
+    pub fn sandbox(&self, file: Option<&Path>) -> Result<Sandbox> {
+        let mut s = file.map_or_else(Sandbox::working_directory, Sandbox::for_input);
+        for d in &self.allow_path {
+            s.allow(d)?;
+        }
+        if let Some(n) = self.max_file_size {
+            s.limits.max_file_bytes = n;
+        }
+        if let Some(n) = self.max_primitives {
+            s.limits.max_primitives = n;
+        }
+        if let Some(n) = self.max_nodes {
+            s.limits.max_nodes = n;
+        }
+        Ok(s)
+    }
 }
 
 /// Accelerator choice, shared by the commands.
@@ -256,18 +328,58 @@ fn check_cancel(cancel: &AtomicBool) -> Result<()> {
     }
 }
 
-/// Loads the scene argument, or the built-in scene.
-fn load(scene: Option<&Path>) -> Result<LoadedScene> {
-    match scene {
-        Some(p) => load_scene(p),
-        None => default_scene(),
-    }
+/// Loads the scene argument, or the built-in scene; returns the sandbox it
+/// was read under (which knows the files read).
+fn load(scene: Option<&Path>, access: &AccessArgs) -> Result<(LoadedScene, Sandbox)> {
+    let sandbox = access.sandbox(scene)?;
+    let loaded = match scene {
+        Some(p) => load_scene_in(p, &sandbox)?,
+        None => default_scene()?,
+    };
+    Ok((loaded, sandbox))
 }
 
+/// Refuses outputs that would destroy an input or each other: two outputs
+/// naming the same file, or an output naming a file that was read.
+pub(crate) fn check_outputs(outputs: &[(&str, &Path)], inputs: &[PathBuf]) -> Result<()> {
+    for (k, (flag, out)) in outputs.iter().enumerate() {
+        for (other_flag, other) in &outputs[..k] {
+            if same_file(out, other) {
+                return Err(Error::output(
+                    out,
+                    format!("{flag} and {other_flag} name the same file: give each its own"),
+                ));
+            }
+        }
+        if let Some(input) = inputs.iter().find(|i| same_file(out, i)) {
+            return Err(Error::output(
+                out,
+                format!(
+                    "{flag} names an input of this run ({}): writing it would destroy the input; choose another output path",
+                    input.display()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// True when `a` and `b` are the same file: the same device and inode when
+/// both exist, else the same path after resolving links.
+fn same_file(a: &Path, b: &Path) -> bool {
+    #[cfg(unix)]
+    if let (Ok(ma), Ok(mb)) = (std::fs::metadata(a), std::fs::metadata(b)) {
+        use std::os::unix::fs::MetadataExt;
+        return ma.dev() == mb.dev() && ma.ino() == mb.ino();
+    }
+    crate::sandbox::canonical(a) == crate::sandbox::canonical(b)
+}
+
+/// Prints warnings, control characters escaped.
 fn warn(warnings: &[String]) {
     let mut e = std::io::stderr().lock();
     for w in warnings {
-        let _ = writeln!(e, "warning: {w}");
+        let _ = writeln!(e, "warning: {}", escape_control(w));
     }
 }
 
@@ -286,10 +398,18 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
              `gridrt merge` turns the parts into a .png or .exr",
         ));
     }
+    let passes = pass_paths(&a.output, a.aov.aov.as_ref());
     if let Some(s) = &a.stats {
         check_output_dir(s)?;
     }
-    let mut loaded = load(a.scene.as_deref())?;
+    let mut outputs = vec![("-o", a.output.as_path())];
+    outputs.extend(passes.iter().map(|p| ("--aov", p.as_path())));
+    if let Some(s) = &a.stats {
+        outputs.push(("--stats", s.as_path()));
+    }
+    check_outputs(&outputs, &a.scene.iter().cloned().collect::<Vec<_>>())?;
+    let (mut loaded, sandbox) = load(a.scene.as_deref(), &a.access)?;
+    check_outputs(&outputs, &sandbox.files_read())?;
     // Loading and the grid build are not interruptible; a Ctrl-C during
     // them is honoured as soon as they end.
     check_cancel(cancel)?;
@@ -320,18 +440,16 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     let (rendered, stats) = result.map_err(|_| Error::Cancelled)?;
     // A Ctrl-C after the last tile still means "stop, write nothing".
     check_cancel(cancel)?;
-    let passes = match rendered {
-        Rendered::Full(image) => write_with_aovs(&a.output, &renderer, &image, a.aov.aov.as_ref())?,
-        Rendered::Part(rects, images) => crate::write_part(
-            &a.output,
-            renderer.size(),
-            &crate::fingerprint(&loaded.scene),
-            &rects,
-            &images,
-        )
-        .map(|()| Vec::new())?,
-    };
-
+    // Both outputs are written to temporary files first; they are renamed
+    // into place only when both are complete, so a failure keeps both old
+    // files byte for byte.
+    WRITING.store(true, Ordering::SeqCst);
+    let written = write_outputs(a, &loaded, &renderer, &rendered, &stats, cancel);
+    WRITING.store(false, Ordering::SeqCst);
+    written?;
+    if a.quiet {
+        return Ok(());
+    }
     let report = Report {
         loaded: &loaded,
         accel: a.accel,
@@ -340,20 +458,60 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
         stats: &stats,
         output: &a.output,
     };
-    if let Some(p) = &a.stats {
-        let json = serde_json::to_string_pretty(&report.json())
-            .map_err(|e| Error::output(p, format!("cannot encode statistics: {e}")))?;
-        write_atomic(p, |f| {
-            f.write_all(json.as_bytes())?;
-            f.write_all(b"\n")
-        })?;
-    }
-    if a.quiet {
-        return Ok(());
-    }
     put(out, &report.text());
     for p in passes {
         put(out, &format!("pass        {}\n", p.display()));
+    }
+    Ok(())
+}
+
+/// True while `render` writes its outputs: the binary's second Ctrl-C
+/// waits for it rather than exiting, so no temporary file is left.
+pub static WRITING: AtomicBool = AtomicBool::new(false);
+
+/// Writes the image and the statistics: both to temporary files first,
+/// renamed into place only when both are complete, so a failure (or a
+/// Ctrl-C) keeps both old files byte for byte.
+fn write_outputs(
+    a: &RenderArgs,
+    loaded: &LoadedScene,
+    renderer: &Renderer,
+    rendered: &Rendered,
+    stats: &RenderStats,
+    cancel: &AtomicBool,
+) -> Result<()> {
+    let (image_files, _) = stage_rendered(
+        &a.output,
+        renderer,
+        rendered,
+        a.aov.aov.as_ref(),
+        &loaded.scene,
+    )?;
+    let report = Report {
+        loaded,
+        accel: a.accel,
+        threads: a.threads,
+        primitives: renderer.primitive_count(),
+        stats,
+        output: &a.output,
+    };
+    let stats_file = match &a.stats {
+        Some(p) => {
+            let json = serde_json::to_string_pretty(&report.json())
+                .map_err(|e| Error::output(p, format!("cannot encode statistics: {e}")))?;
+            Some(stage(p, |f| {
+                f.write_all(json.as_bytes())?;
+                f.write_all(b"\n")
+            })?)
+        }
+        None => None,
+    };
+    check_cancel(cancel)?;
+    for f in image_files {
+        f.commit()?;
+    }
+    if let Some(f) = stats_file {
+        f.commit()?;
     }
     Ok(())
 }
@@ -542,7 +700,7 @@ fn v(p: Vec3) -> String {
 }
 
 fn info(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
-    let loaded = load(a.scene.as_deref())?;
+    let (loaded, _) = load(a.scene.as_deref(), &a.access)?;
     warn(&loaded.warnings);
     let s = &loaded.scene;
     let mut t = String::new();
@@ -622,13 +780,29 @@ fn info(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
     Ok(())
 }
 
+/// Runs `f(true)` in a thread pool of its own, or `f(false)` on this thread
+/// when no pool can be started (a container's process limit): rayon's
+/// global pool would panic there.
+fn in_pool<R: Send>(f: impl FnOnce(bool) -> R + Send) -> R {
+    #[cfg(feature = "rayon")]
+    if let Ok(pool) = rayon::ThreadPoolBuilder::new().build() {
+        return pool.install(|| f(true));
+    }
+    f(false)
+}
+
 fn rays(a: &RaysArgs, out: &mut dyn Write) -> Result<()> {
     if let Some(o) = &a.output {
         check_output_dir(o)?;
+        check_outputs(&[("-o", o)], &[a.mesh.clone(), a.rays.clone()])?;
     }
-    let model = load_model(&a.mesh)?;
+    let sandbox = a.access.sandbox(Some(&a.mesh))?;
+    let model = load_model_in(&a.mesh, &sandbox)?;
     warn(&model.warnings);
-    let bytes = std::fs::read(&a.rays).map_err(|e| Error::read(&a.rays, e))?;
+    let bytes = sandbox.read(&a.rays)?;
+    if let Some(o) = &a.output {
+        check_outputs(&[("-o", o)], &sandbox.files_read())?;
+    }
     let queries = parse_rays(&String::from_utf8_lossy(&bytes), &a.rays)?;
     let tris: Vec<Triangle> = model
         .triangles()
@@ -636,12 +810,14 @@ fn rays(a: &RaysArgs, out: &mut dyn Write) -> Result<()> {
         .collect();
     let n_tris = tris.len();
     let start = Instant::now();
-    let hits = match a.accel.accel {
+    let hits = in_pool(|parallel| match a.accel.accel {
         Accel::Exhaustive => trace_rays(&Exhaustive::new(tris), &queries),
         Accel::Grid | Accel::HashedGrid => {
-            trace_rays(&Grid::build(tris, &a.accel.grid_config()), &queries)
+            let mut config = a.accel.grid_config();
+            config.parallel_build &= parallel;
+            trace_rays(&Grid::build(tris, &config), &queries)
         }
-    };
+    });
     let elapsed = start.elapsed();
     let text = format_hits(&hits);
     match &a.output {

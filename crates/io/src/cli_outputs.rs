@@ -79,16 +79,28 @@ pub struct AovArgs {
     pub aov: Option<AovList>,
 }
 
-/// Writes the image, and the passes asked for, where `a.output` says.
-pub(crate) fn write_with_aovs(
+/// Stages what `gridrt render` writes to `output` (see [`crate::stage`]):
+/// the image, with its passes when `aovs` asks for them (extra channels of
+/// an EXR, or pictures beside a PNG), or a part of the frame. Returns the
+/// staged files and the paths of the pass pictures.
+pub(crate) fn stage_rendered(
     output: &Path,
     renderer: &Renderer,
-    image: &Framebuffer,
+    rendered: &Rendered,
     aovs: Option<&AovList>,
-) -> Result<Vec<PathBuf>> {
+    scene: &gridrt_tracer::Scene,
+) -> Result<(Vec<crate::Staged>, Vec<PathBuf>)> {
+    let image = match rendered {
+        Rendered::Part(rects, images) => {
+            let f = crate::fingerprint(scene);
+            let staged = crate::stage_part(output, renderer.size(), &f, rects, images)?;
+            return Ok((vec![staged], Vec::new()));
+        }
+        Rendered::Full(image) => image,
+    };
     let Some(AovList(list)) = aovs else {
-        crate::write_framebuffer(output, image)?;
-        return Ok(Vec::new());
+        let staged = crate::stage_image(output, image.width, image.height, &image.pixels)?;
+        return Ok((vec![staged], Vec::new()));
     };
     let (w, h) = renderer.size();
     let passes = renderer.render_aovs(
@@ -101,11 +113,34 @@ pub(crate) fn write_with_aovs(
         },
     );
     if crate::ImageFormat::from_path(output)? == crate::ImageFormat::Exr {
-        crate::write_exr_with_aovs(output, image, &passes)?;
-        Ok(Vec::new())
+        Ok((
+            vec![crate::stage_exr_with_aovs(output, image, &passes)?],
+            Vec::new(),
+        ))
     } else {
-        crate::write_framebuffer(output, image)?;
-        crate::write_aov_pngs(output, &passes)
+        let mut staged = vec![crate::stage_image(
+            output,
+            image.width,
+            image.height,
+            &image.pixels,
+        )?];
+        staged.extend(crate::stage_aov_pngs(output, &passes)?);
+        let paths = passes
+            .iter()
+            .map(|p| crate::aov_png_path(output, p.aov))
+            .collect();
+        Ok((staged, paths))
+    }
+}
+
+/// The pass pictures `gridrt render` will write beside a PNG `output`.
+pub(crate) fn pass_paths(output: &Path, aovs: Option<&AovList>) -> Vec<PathBuf> {
+    match (aovs, crate::ImageFormat::from_path(output)) {
+        (Some(AovList(list)), Ok(crate::ImageFormat::Png)) => list
+            .iter()
+            .map(|&a| crate::aov_png_path(output, a))
+            .collect(),
+        _ => Vec::new(),
     }
 }
 
@@ -171,6 +206,7 @@ pub(crate) fn render_part(
 /// `gridrt merge`.
 pub(crate) fn merge(a: &MergeArgs, out: &mut dyn Write) -> Result<()> {
     crate::check_image_path(&a.output)?;
+    crate::cli::check_outputs(&[("-o", a.output.as_path())], &a.parts)?;
     let image = merge_parts(&a.parts)?;
     crate::write_framebuffer(&a.output, &image)?;
     let _ = writeln!(
@@ -189,6 +225,7 @@ pub(crate) fn merge(a: &MergeArgs, out: &mut dyn Write) -> Result<()> {
 pub(crate) fn diff(a: &DiffArgs, out: &mut dyn Write) -> Result<()> {
     if let Some(o) = &a.output {
         crate::check_image_path(o)?;
+        crate::cli::check_outputs(&[("-o", o.as_path())], &[a.a.clone(), a.b.clone()])?;
     }
     let (d, diff_image) = diff_files(&a.a, &a.b, a.threshold)?;
     let unit = match diff_image.kind {

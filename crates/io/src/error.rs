@@ -24,6 +24,55 @@ pub enum Error {
         source: std::io::Error,
     },
 
+    /// A file names another file outside the folders it may read (see
+    /// [`Sandbox`](crate::Sandbox)). The message names the reference as
+    /// written and the flag that allows it, and says nothing about the
+    /// target (not whether it exists).
+    #[error(
+        "{}{}: \"{reference}\" is outside the folders {} may read ({}): allow its folder with --allow-path DIR",
+        .path.display(),
+        Place(.place),
+        if *.model { "a model file" } else { "the scene" },
+        if *.model {
+            "its own folder and --allow-path folders"
+        } else {
+            "the input's folder, the working directory and --allow-path folders"
+        }
+    )]
+    Denied {
+        /// The file that holds the reference.
+        path: PathBuf,
+        /// Where in it, or empty.
+        place: String,
+        /// The reference as written (decoded).
+        reference: String,
+        /// True when the reference is in a model file (OBJ, glTF).
+        model: bool,
+    },
+
+    /// An input is not a regular file (a FIFO, a device, a folder): gridrt
+    /// reads regular files only, so it cannot hang or read without end.
+    #[error("{}: is {kind}, not a regular file: give a regular file", .path.display())]
+    NotRegular {
+        /// The file.
+        path: PathBuf,
+        /// What it is instead: `a folder`, `a FIFO`, `a device`, …
+        kind: &'static str,
+    },
+
+    /// A budget of [`Limits`](crate::Limits) was exceeded: a file too
+    /// large, a scene expanding to too many primitives or glTF nodes. The
+    /// message names the limit and the flag that raises it.
+    #[error("{}{}: {msg}", .path.display(), Place(.place))]
+    Limit {
+        /// The file.
+        path: PathBuf,
+        /// Where in it, or empty.
+        place: String,
+        /// The limit and the flag that raises it.
+        msg: String,
+    },
+
     /// A RON scene file is not well formed or does not follow the scene
     /// schema (syntax error, unknown or missing field, wrong type, a value
     /// out of range). See `docs/scene-format.md`.
@@ -198,6 +247,39 @@ impl Error {
         }
     }
 
+    /// The error with `from` (a resolved path) shown as `to` (the path as
+    /// the user wrote it) where it names the file itself.
+    pub(crate) fn renamed(self, from: &Path, to: &Path) -> Self {
+        let fix = |p: PathBuf| if p == from { to.to_path_buf() } else { p };
+        match self {
+            Self::Read { path, source } => Self::Read {
+                path: fix(path),
+                source,
+            },
+            Self::NotRegular { path, kind } => Self::NotRegular {
+                path: fix(path),
+                kind,
+            },
+            Self::Denied {
+                path,
+                place,
+                reference,
+                model,
+            } => Self::Denied {
+                path: fix(path),
+                place,
+                reference,
+                model,
+            },
+            Self::Limit { path, place, msg } => Self::Limit {
+                path: fix(path),
+                place,
+                msg,
+            },
+            other => other,
+        }
+    }
+
     /// A [`Error::Scene`] with a place.
     pub(crate) fn scene(path: &Path, place: impl Into<String>, msg: impl Into<String>) -> Self {
         Self::Scene {
@@ -240,6 +322,26 @@ impl Error {
             msg: msg.into(),
         }
     }
+}
+
+/// `text` with control characters (newlines, escapes, DEL, C1) written
+/// as `\n`, `\u{1b}`, …, so a name in a message cannot move the cursor or
+/// forge a line. The `gridrt` binary prints every message through it.
+///
+/// ```
+/// assert_eq!(gridrt_io::escape_control("a\nb\u{1b}[2J"), "a\\nb\\u{1b}[2J");
+/// ```
+#[must_use]
+pub fn escape_control(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
 }
 
 /// An I/O error as a short sentence, with a hint for the common cases.

@@ -52,9 +52,7 @@ pub fn check_output_dir(path: &Path) -> Result<()> {
     if path.as_os_str().is_empty() {
         return Err(Error::output(path, "empty output path"));
     }
-    if path.is_dir() {
-        return Err(Error::output(path, "is a directory: give a file name"));
-    }
+    check_replaceable(path)?;
     let dir = parent_dir(path);
     if !dir.is_dir() {
         return Err(Error::output(
@@ -125,13 +123,26 @@ fn srgb8(x: f32) -> u8 {
 /// # Panics
 /// If `pixels.len() != width · height` (a caller bug, not bad input).
 pub fn write_image(path: &Path, width: u32, height: u32, pixels: &[Rgb]) -> Result<()> {
+    stage_image(path, width, height, pixels)?.commit()
+}
+
+/// [`write_image`] up to the rename: the image is complete and synced in a
+/// temporary file beside `path`, which [`Staged::commit`] renames into
+/// place (dropping the [`Staged`] removes it).
+///
+/// # Errors
+/// As [`write_image`].
+///
+/// # Panics
+/// If `pixels.len() != width · height` (a caller bug, not bad input).
+pub fn stage_image(path: &Path, width: u32, height: u32, pixels: &[Rgb]) -> Result<Staged> {
     assert_eq!(
         pixels.len() as u64,
         u64::from(width) * u64::from(height),
         "pixel count must be width × height"
     );
     let format = check_image_path(path)?;
-    write_atomic(path, |file| {
+    stage(path, |file| {
         let mut w = BufWriter::new(file);
         match format {
             ImageFormat::Png => {
@@ -147,7 +158,7 @@ pub fn write_image(path: &Path, width: u32, height: u32, pixels: &[Rgb]) -> Resu
                     height,
                     image::ExtendedColorType::Rgb8,
                 )
-                .map_err(std::io::Error::other)?;
+                .map_err(image_io_error)?;
             }
             ImageFormat::Exr => {
                 let clean = |x: f32| if x.is_finite() { x } else { 0.0 };
@@ -164,24 +175,71 @@ pub fn write_image(path: &Path, width: u32, height: u32, pixels: &[Rgb]) -> Resu
                     height,
                     image::ExtendedColorType::Rgb32F,
                 )
-                .map_err(std::io::Error::other)?;
+                .map_err(image_io_error)?;
             }
         }
         w.flush()
     })
 }
 
+/// The I/O error inside an encoder's error (so "File too large" or "No
+/// space left on device" reach the message), else the encoder's error.
+fn image_io_error(e: image::ImageError) -> std::io::Error {
+    match e {
+        image::ImageError::IoError(io) => io,
+        other => std::io::Error::other(other),
+    }
+}
+
 /// Writes a file atomically: the content goes to a temporary file in the
 /// same directory, which is renamed over `path` only once it is complete
 /// and synced. A failure or an interruption never leaves a half-written
-/// `path` and never replaces a good one.
+/// `path` and never replaces a good one; the temporary file is removed.
 ///
 /// # Errors
-/// [`Error::Write`] naming `path`.
+/// [`Error::Write`] naming `path`; [`Error::Output`] when `path` exists
+/// and is not a regular file (a device such as `/dev/null` is never
+/// replaced).
 pub fn write_atomic(
     path: &Path,
     write: impl FnOnce(&mut File) -> std::io::Result<()>,
 ) -> Result<()> {
+    stage(path, write)?.commit()
+}
+
+/// An output written completely to a temporary file, waiting to be renamed
+/// over its path. Dropped without [`Staged::commit`], the temporary file is
+/// removed and the path is untouched.
+#[derive(Debug)]
+pub struct Staged {
+    tmp: tempfile::NamedTempFile,
+    path: std::path::PathBuf,
+}
+
+impl Staged {
+    /// Renames the temporary file over the path.
+    ///
+    /// # Errors
+    /// [`Error::Output`] when the path has become a non-regular file,
+    /// [`Error::Write`] when the rename fails (the temporary file is then
+    /// removed).
+    pub fn commit(self) -> Result<()> {
+        check_replaceable(&self.path)?;
+        let path = self.path;
+        self.tmp.persist(&path).map_err(|e| Error::Write {
+            path: path.clone(),
+            source: e.error,
+        })?;
+        Ok(())
+    }
+}
+
+/// The first step of [`write_atomic`]: everything but the rename.
+///
+/// # Errors
+/// As [`write_atomic`].
+pub fn stage(path: &Path, write: impl FnOnce(&mut File) -> std::io::Result<()>) -> Result<Staged> {
+    check_replaceable(path)?;
     let werr = |source| Error::Write {
         path: path.to_path_buf(),
         source,
@@ -201,8 +259,24 @@ pub fn write_atomic(
             .set_permissions(std::fs::Permissions::from_mode(0o644))
             .map_err(werr)?;
     }
-    tmp.persist(path).map_err(|e| werr(e.error))?;
-    Ok(())
+    Ok(Staged {
+        tmp,
+        path: path.to_path_buf(),
+    })
+}
+
+/// An existing `path` must be a regular file (a symbolic link to one is
+/// replaced by the output, its target left alone): a rename over a device,
+/// FIFO or socket would replace the special file itself.
+fn check_replaceable(path: &Path) -> Result<()> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_dir() => Err(Error::output(path, "is a directory: give a file name")),
+        Ok(m) if !m.is_file() => Err(Error::output(
+            path,
+            "is a special file (a device, FIFO or socket), not a regular file: gridrt writes an output by replacing the file, so give the path of a regular file",
+        )),
+        _ => Ok(()),
+    }
 }
 
 #[cfg(test)]

@@ -58,28 +58,38 @@ mod diff;
 mod error;
 mod image_out;
 mod model;
+mod model_scene;
 mod parts;
 mod random;
 mod rays;
+mod ron_text;
+mod sandbox;
 mod scene;
 mod schema;
 
-pub use aov_out::{aov_png_path, parse_aovs, write_aov_pngs, write_exr_with_aovs};
+pub use aov_out::{
+    aov_png_path, parse_aovs, stage_aov_pngs, stage_exr_with_aovs, write_aov_pngs,
+    write_exr_with_aovs,
+};
 pub use diff::{
     diff_files, diff_values, kind_name, read_image, write_diff_image, ImageDiff, ImageValues,
     RgbImage,
 };
-pub use error::{Error, Result};
+pub use error::{escape_control, Error, Result};
 pub use image_out::{
-    check_image_path, check_output_dir, linear_to_srgb, write_atomic, write_image, ImageFormat,
+    check_image_path, check_output_dir, linear_to_srgb, stage, stage_image, write_atomic,
+    write_image, ImageFormat, Staged,
 };
 pub use model::{
-    default_material, load_model, Model, ModelCamera, ModelFormat, ModelMesh, NamedMaterial,
+    default_material, load_model, load_model_in, Model, ModelCamera, ModelFormat, ModelMesh,
+    NamedMaterial,
 };
-pub use parts::{fingerprint, merge_parts, write_part, PartSpec, STRIP};
+pub use model_scene::{apply_overrides, frame, scene_from_model};
+pub use parts::{fingerprint, merge_parts, stage_part, write_part, PartSpec, STRIP};
 pub use rays::{format_hits, parse_rays, trace_rays, RayQuery};
+pub use sandbox::{Limits, Sandbox};
 pub use scene::{
-    apply_overrides, default_scene, frame, load_scene, parse_scene, scene_from_model, LoadedScene,
+    default_scene, load_scene, load_scene_in, parse_scene, parse_scene_in, LoadedScene,
     DEFAULT_SCENE, DEFAULT_SCENE_NAME,
 };
 

@@ -21,6 +21,13 @@ const EXIT_INTERRUPTED: u8 = 130;
 static CANCEL: AtomicBool = AtomicBool::new(false);
 
 fn main() -> ExitCode {
+    #[cfg(unix)]
+    // SAFETY: setting SIGXFSZ to SIG_IGN installs no handler code; with it
+    // ignored, a write past the file-size limit fails with EFBIG (reported,
+    // temporary file removed) instead of killing the process mid-write.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
     match try_main() {
         Ok(()) => ExitCode::SUCCESS,
         Err(e @ gridrt_io::Error::Cancelled) => {
@@ -28,7 +35,7 @@ fn main() -> ExitCode {
             ExitCode::from(EXIT_INTERRUPTED)
         }
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {}", gridrt_io::escape_control(&e.to_string()));
             ExitCode::FAILURE
         }
     }
@@ -40,7 +47,12 @@ fn try_main() -> gridrt_io::Result<()> {
         // ctrlc runs this on its own thread, not in the signal handler, so
         // printing and exiting here are safe.
         let handler = || {
-            if CANCEL.swap(true, Ordering::SeqCst) {
+            // A second Ctrl-C exits at once, except while the outputs are
+            // written (a moment): then the write finishes, is discarded,
+            // and no temporary file is left.
+            if CANCEL.swap(true, Ordering::SeqCst)
+                && !gridrt_io::cli::WRITING.load(Ordering::SeqCst)
+            {
                 eprintln!("{}", gridrt_io::Error::Cancelled);
                 std::process::exit(i32::from(EXIT_INTERRUPTED));
             }

@@ -18,6 +18,7 @@
 //! render and is byte for byte the same file.
 
 use crate::error::{Error, Result};
+use crate::image_out::Staged;
 use exr::prelude::{
     AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image, ImageAttributes,
     IntegerBounds, Layer, LayerAttributes, Text, Vec2, WritableImage,
@@ -207,6 +208,24 @@ pub fn write_part(
     rects: &[PixelRect],
     images: &[Framebuffer],
 ) -> Result<()> {
+    stage_part(path, full, fingerprint, rects, images)?.commit()
+}
+
+/// [`write_part`] up to the rename: the part in a temporary file beside
+/// `path`, put in place by [`Staged::commit`].
+///
+/// # Errors
+/// As [`write_part`].
+///
+/// # Panics
+/// As [`write_part`].
+pub fn stage_part(
+    path: &Path,
+    full: (u32, u32),
+    fingerprint: &str,
+    rects: &[PixelRect],
+    images: &[Framebuffer],
+) -> Result<Staged> {
     assert_eq!(rects.len(), images.len(), "one image per rectangle");
     if crate::ImageFormat::from_path(path)? != crate::ImageFormat::Exr {
         return Err(Error::output(
@@ -253,7 +272,7 @@ pub fn write_part(
         full.1 as usize,
     )));
     let image = Image::from_layers(attrs, layers);
-    crate::write_atomic(path, |file| {
+    crate::stage(path, |file| {
         let mut w = std::io::BufWriter::new(file);
         image
             .write()

@@ -43,6 +43,7 @@ pub struct RayQuery {
 /// direction, a zero direction, `tmin > tmax`.
 pub fn parse_rays(text: &str, path: &Path) -> Result<Vec<RayQuery>> {
     let mut out = Vec::new();
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     for (i, line) in text.lines().enumerate() {
         let line = line.trim();
         if line.is_empty() || line.starts_with('#') {

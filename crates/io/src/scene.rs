@@ -2,15 +2,19 @@
 //! files rendered on their own, turned into the tracer's [`Scene`].
 
 use crate::error::{Error, Result};
-use crate::model::{self, load_model, to_dvec3, to_vec3, Model, ModelFormat};
+use crate::model::{self, to_dvec3, to_vec3, Model, ModelFormat};
+use crate::model_scene::{frame, scene_from_model};
+use crate::ron_text::{line_col, ron_error, Outline};
+use crate::sandbox::Sandbox;
 use crate::schema::{
-    self, CameraDesc, LightDesc, MaterialDesc, ObjectDesc, ProjectionDesc, SceneFile, TransformDesc,
+    self, CameraDesc, LightDesc, ObjectDesc, ProjectionDesc, SceneFile, TransformDesc,
 };
 use glam::{DMat4, DQuat, DVec3};
 use gridrt_bbox::{Aabb, Real, Vec3};
 use gridrt_tracer::{
-    Camera, Geometry, Light, Material, MaterialId, Object, Projection, Rgb, Scene, Settings,
+    Camera, Geometry, Light, Material, MaterialId, Object, Projection, Scene, Settings,
 };
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 /// The built-in default scene (RON), rendered by `gridrt` with no scene.
@@ -33,18 +37,30 @@ pub struct LoadedScene {
 }
 
 /// Reads a scene: a `.ron` scene file, or an `.obj`/`.gltf`/`.glb` model
-/// rendered on its own (see [`scene_from_model`]).
+/// rendered on its own (see [`scene_from_model`]), reading only from the
+/// scene's folder and the working directory ([`Sandbox::for_input`]).
+///
+/// # Errors
+/// As [`load_scene_in`].
+pub fn load_scene(path: &Path) -> Result<LoadedScene> {
+    load_scene_in(path, &Sandbox::for_input(path))
+}
+
+/// Reads a scene under a [`Sandbox`]: the scene file itself as named, and
+/// every file it names, transitively, only from the sandbox's folders.
 ///
 /// # Errors
 /// Any [`Error`] about the file or the files it refers to; an unknown
-/// extension is [`Error::UnsupportedInput`].
-pub fn load_scene(path: &Path) -> Result<LoadedScene> {
+/// extension is [`Error::UnsupportedInput`], a reference outside the
+/// sandbox [`Error::Denied`], a budget exceeded [`Error::Limit`].
+pub fn load_scene_in(path: &Path, sandbox: &Sandbox) -> Result<LoadedScene> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     if ext.as_deref() == Some("ron") {
-        let bytes = std::fs::read(path).map_err(|e| Error::read(path, e))?;
+        let real = crate::sandbox::canonical(path);
+        let bytes = sandbox.read(&real).map_err(|e| e.renamed(&real, path))?;
         let text = String::from_utf8(bytes).map_err(|e| {
             let (line, col) = line_col(e.as_bytes(), e.utf8_error().valid_up_to());
             Error::Ron {
@@ -54,9 +70,11 @@ pub fn load_scene(path: &Path) -> Result<LoadedScene> {
                 msg: "the file is not UTF-8 text: save it as UTF-8".to_string(),
             }
         })?;
-        parse_scene(&text, path)
+        parse_scene_at(&text, path, &real, sandbox)
     } else if ModelFormat::from_path(path).is_some() {
-        Ok(scene_from_model(load_model(path)?))
+        let model = model::load_model_in(path, sandbox)?;
+        check_model_budget(&model, sandbox)?;
+        Ok(scene_from_model(model))
     } else {
         Err(Error::UnsupportedInput {
             path: path.to_path_buf(),
@@ -65,12 +83,22 @@ pub fn load_scene(path: &Path) -> Result<LoadedScene> {
     }
 }
 
+/// A model's triangles against the primitive budget.
+fn check_model_budget(model: &Model, sandbox: &Sandbox) -> Result<()> {
+    let n = model.triangle_count() as u64;
+    if n > sandbox.limits.max_primitives {
+        return Err(sandbox.limits.primitives_error(&model.path, "", n));
+    }
+    Ok(())
+}
+
 /// The built-in default scene.
 ///
 /// # Errors
 /// None in practice (a test parses it); the signature matches [`parse_scene`].
 pub fn default_scene() -> Result<LoadedScene> {
-    parse_scene(DEFAULT_SCENE, Path::new(DEFAULT_SCENE_NAME))
+    let path = Path::new(DEFAULT_SCENE_NAME);
+    parse_scene_at(DEFAULT_SCENE, path, path, &Sandbox::working_directory())
 }
 
 /// Parses RON scene text. `path` names the scene in messages, and relative
@@ -94,98 +122,45 @@ pub fn default_scene() -> Result<LoadedScene> {
 /// [`Error::Scene`] for invalid content, [`Error::Mesh`] when a mesh file
 /// cannot be loaded.
 pub fn parse_scene(text: &str, path: &Path) -> Result<LoadedScene> {
+    parse_scene_in(text, path, &Sandbox::for_input(path))
+}
+
+/// [`parse_scene`] under a [`Sandbox`]: mesh files are read only from its
+/// folders.
+///
+/// # Errors
+/// As [`parse_scene`], and [`Error::Denied`] for a mesh outside the
+/// sandbox, [`Error::Limit`] over a budget.
+pub fn parse_scene_in(text: &str, path: &Path, sandbox: &Sandbox) -> Result<LoadedScene> {
+    parse_scene_at(text, path, &crate::sandbox::canonical(path), sandbox)
+}
+
+/// Parses scene text named `path` whose canonical path is `real`.
+fn parse_scene_at(text: &str, path: &Path, real: &Path, sandbox: &Sandbox) -> Result<LoadedScene> {
+    // A byte-order mark is not RON; editors on Windows write one.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let file: SceneFile = schema::ron_options()
         .from_str(text)
-        .map_err(|e| ron_error(path, &e))?;
-    Builder::new(path, text).build(file)
-}
-
-/// A RON error in our words.
-fn ron_error(path: &Path, e: &ron::error::SpannedError) -> Error {
-    use ron::Error as R;
-    let list = |names: &[&str]| {
-        // Hide the snake_case aliases when the PascalCase name is listed.
-        let shown: Vec<String> = names
-            .iter()
-            .filter(|n| {
-                !(n.starts_with(|c: char| c.is_ascii_lowercase())
-                    && names
-                        .iter()
-                        .any(|m| m.to_ascii_lowercase() == n.replace('_', "") && m != *n))
-            })
-            .map(|n| format!("`{n}`"))
-            .collect();
-        shown.join(", ")
-    };
-    let msg = match &e.code {
-        R::NoSuchStructField {
-            expected,
-            found,
-            outer,
-        } => format!(
-            "unknown field `{found}`{}; expected one of {}",
-            outer
-                .as_ref()
-                .map_or_else(String::new, |o| format!(" in `{o}`")),
-            list(expected)
-        ),
-        R::NoSuchEnumVariant {
-            expected,
-            found,
-            outer,
-        } => format!(
-            "unknown {} `{found}`; expected one of {}",
-            outer
-                .as_ref()
-                .map_or_else(|| "variant".to_string(), |o| format!("`{o}` kind")),
-            list(expected)
-        ),
-        R::MissingStructField { field, outer } => format!(
-            "missing field `{field}`{}: add `{field}: ...`",
-            outer
-                .as_ref()
-                .map_or_else(String::new, |o| format!(" in `{o}`"))
-        ),
-        R::Message(m) => m.clone(),
-        other => format!("{other} (see docs/scene-format.md)"),
-    };
-    Error::Ron {
-        path: path.to_path_buf(),
-        line: e.position.line,
-        col: e.position.col,
-        msg,
-    }
-}
-
-/// The 1-based line and column of the first occurrence of `needle` that is
-/// not in a `//` comment.
-fn locate(src: &str, needle: &str) -> Option<(usize, usize)> {
-    src.match_indices(needle).find_map(|(at, _)| {
-        let before = &src[..at];
-        let line_start = before.rfind('\n').map_or(0, |nl| nl + 1);
-        if before[line_start..].contains("//") {
-            return None;
-        }
-        Some((before.matches('\n').count() + 1, at - line_start + 1))
-    })
-}
-
-/// Line and column of byte offset `at`.
-fn line_col(bytes: &[u8], at: usize) -> (usize, usize) {
-    let before = &bytes[..at.min(bytes.len())];
-    let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
-    let start = before
-        .iter()
-        .rposition(|&b| b == b'\n')
-        .map_or(0, |p| p + 1);
-    (line, at - start + 1)
+        .map_err(|e| ron_error(path, text, &e))?;
+    Builder::new(path, real, text, sandbox).build(file)
 }
 
 /// Converts a schema scene into the tracer's model.
 struct Builder<'a> {
     path: &'a Path,
+    /// The scene file's canonical path: mesh references resolve from it.
+    real: &'a Path,
     src: &'a str,
-    base: PathBuf,
+    sandbox: &'a Sandbox,
+    /// Where things are in `src`, found on the first error that needs it.
+    outline: std::cell::OnceCell<Outline>,
+    /// The object being converted (for error places).
+    current: Option<usize>,
+    /// Models read so far, by canonical path: a model named by many
+    /// objects is read once.
+    models: HashMap<PathBuf, Model>,
+    /// Primitives so far (spheres, boxes, planes, triangles).
+    primitives: u64,
     materials: Vec<Material>,
     /// Named materials: name and index into `materials`.
     names: Vec<(String, MaterialId)>,
@@ -198,17 +173,42 @@ fn v3(v: [f64; 3]) -> Vec3 {
     Vec3::new(v[0] as Real, v[1] as Real, v[2] as Real)
 }
 
+/// A number as written in a message: exponent form when it is huge or tiny.
+fn num(x: f64) -> String {
+    if x != 0.0 && !(1e-4..1e15).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// The unit vector along `v` (finite, non-zero), computed without
+/// overflow: `(1e300, 0, 0)` is `(1, 0, 0)`, not a zero vector.
+fn unit(v: [f64; 3]) -> DVec3 {
+    let d = DVec3::from_array(v);
+    let m = d.abs().max_element();
+    if m > 0.0 && m.is_finite() {
+        (d / m).normalize()
+    } else {
+        d
+    }
+}
+
 fn f32s(x: f64) -> f32 {
     x as f32
 }
 
 impl<'a> Builder<'a> {
-    fn new(path: &'a Path, src: &'a str) -> Self {
-        let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    fn new(path: &'a Path, real: &'a Path, src: &'a str, sandbox: &'a Sandbox) -> Self {
         Self {
             path,
+            real,
             src,
-            base,
+            sandbox,
+            outline: std::cell::OnceCell::new(),
+            current: None,
+            models: HashMap::new(),
+            primitives: 0,
             materials: Vec::new(),
             names: Vec::new(),
             default_material: None,
@@ -217,17 +217,78 @@ impl<'a> Builder<'a> {
         }
     }
 
-    /// `line:col: what` when `needle` is found in the source, else `what`.
+    /// `line:col: what` for an error about `what`: the current object
+    /// (`objects[i]`, at `needle` inside it when given) or a top-level
+    /// field (`camera`, `objects`); just `what` when it cannot be found.
     fn place(&self, needle: Option<&str>, what: &str) -> String {
-        match needle.and_then(|n| locate(self.src, n)) {
-            Some((l, c)) => format!("{l}:{c}: {what}"),
+        let o = self.outline.get_or_init(|| Outline::new(self.src));
+        let at = match self.current {
+            Some(i) if what.starts_with("objects[") => {
+                o.objects.get(i).map(|&range| match needle {
+                    Some(n) => o.find_in(self.src, range, n),
+                    None => range.0,
+                })
+            }
+            _ => o.field(what),
+        };
+        match at {
+            Some(at) => {
+                let (l, c) = line_col(self.src.as_bytes(), at);
+                format!("{l}:{c}: {what}")
+            }
             None => what.to_string(),
         }
     }
 
+    /// `v` as a `Real` point, or an error at `field` of `what` when a
+    /// coordinate is beyond the range of `Real` (f32: ±3.4e38).
+    fn fit(&self, v: [f64; 3], field: &str, what: &str) -> Result<Vec3> {
+        let p = v3(v);
+        if p.is_finite() {
+            Ok(p)
+        } else {
+            Err(Error::scene(
+                self.path,
+                self.place(Some(field), what),
+                format!(
+                    "{field} ({}, {}, {}) is beyond the range of {}-bit numbers (about ±{:.1e}): scale the scene down",
+                    num(v[0]), num(v[1]), num(v[2]), 8 * std::mem::size_of::<Real>(), Real::MAX
+                ),
+            ))
+        }
+    }
+
+    /// Adds `n` primitives to the count, or the budget error.
+    fn count_primitives(&mut self, n: u64, what: &str) -> Result<()> {
+        self.primitives = self.primitives.saturating_add(n);
+        if self.primitives > self.sandbox.limits.max_primitives {
+            return Err(self.sandbox.limits.primitives_error(
+                self.path,
+                &self.place(None, what),
+                self.primitives,
+            ));
+        }
+        Ok(())
+    }
+
     fn build(mut self, file: SceneFile) -> Result<LoadedScene> {
         for (name, desc) in &file.materials.0 {
-            self.push_material(name.clone(), material(desc));
+            self.push_material(name.clone(), desc.material());
+        }
+        // Generated objects are counted before any is generated.
+        let mut planned = 0u64;
+        for (i, obj) in file.objects.iter().enumerate() {
+            if let ObjectDesc::RandomSpheres { count, .. } = obj {
+                planned = planned.saturating_add(u64::from(count.0));
+                if planned > self.sandbox.limits.max_primitives {
+                    self.current = Some(i);
+                    return Err(self.sandbox.limits.primitives_error(
+                        self.path,
+                        &self.place(None, &format!("objects[{i}]")),
+                        planned,
+                    ));
+                }
+            }
         }
         for (i, obj) in file.objects.iter().enumerate() {
             self.object(i, obj)?;
@@ -259,6 +320,17 @@ impl<'a> Builder<'a> {
             None => {
                 let aspect = f64::from(settings.width) / f64::from(settings.height);
                 let bounds = finite_bounds(&self.objects);
+                if !bounds.is_empty() && !bounds.extent().is_finite() {
+                    return Err(Error::scene(
+                        self.path,
+                        self.place(None, "objects"),
+                        format!(
+                            "the objects span more than {}-bit numbers can hold (about ±{:.1e}), so no camera can frame them: scale the scene down",
+                            8 * std::mem::size_of::<Real>(),
+                            Real::MAX
+                        ),
+                    ));
+                }
                 if bounds.is_empty() {
                     return Err(Error::scene(
                         self.path,
@@ -284,22 +356,30 @@ impl<'a> Builder<'a> {
     }
 
     fn camera(&self, c: &CameraDesc) -> Result<Camera> {
-        let eye = DVec3::from_array(c.eye.0);
-        let at = DVec3::from_array(c.look_at.0);
-        let up = DVec3::from_array(c.up.0);
-        let place = self.place(Some("camera"), "camera");
+        let what = "camera";
+        let eye = self.fit(c.eye.0, "eye", what)?;
+        let at = self.fit(c.look_at.0, "look_at", what)?;
+        let up = unit(c.up.0);
+        let place = || self.place(None, what);
         let view = at - eye;
-        if view.length_squared() == 0.0 {
+        if !view.is_finite() {
             return Err(Error::scene(
                 self.path,
-                place,
+                place(),
+                "eye and look_at are too far apart: their difference overflows; bring them closer",
+            ));
+        }
+        if view == Vec3::ZERO {
+            return Err(Error::scene(
+                self.path,
+                place(),
                 "eye and look_at are the same point: move look_at to where the camera should look",
             ));
         }
-        if view.normalize().cross(up.normalize()).length() < 1e-6 {
+        if to_dvec3(view).normalize().cross(up).length() < 1e-6 {
             return Err(Error::scene(
                 self.path,
-                place,
+                place(),
                 "up is parallel to the view direction (look_at - eye): pick an up vector across it",
             ));
         }
@@ -319,9 +399,9 @@ impl<'a> Builder<'a> {
             },
         };
         Ok(Camera {
-            eye: v3(c.eye.0),
-            look_at: v3(c.look_at.0),
-            up: v3(c.up.0),
+            eye,
+            look_at: at,
+            up: to_vec3(up),
             projection,
         })
     }
@@ -375,17 +455,41 @@ impl<'a> Builder<'a> {
 
     fn object(&mut self, i: usize, obj: &ObjectDesc) -> Result<()> {
         let what = format!("objects[{i}]");
+        self.current = Some(i);
+        if !matches!(
+            obj,
+            ObjectDesc::Mesh { .. } | ObjectDesc::RandomSpheres { .. }
+        ) {
+            self.count_primitives(1, &what)?;
+        }
         match obj {
             ObjectDesc::Sphere {
                 center,
                 radius,
                 material,
             } => {
+                let c = self.fit(center.0, "center", &what)?;
+                let r = radius.0;
+                let (lo, hi) = (0..3).fold((f64::MAX, f64::MIN), |(lo, hi), a| {
+                    (lo.min(center.0[a] - r), hi.max(center.0[a] + r))
+                });
+                self.fit([r, lo, hi], "radius", &what).map_err(|_| {
+                    Error::scene(
+                        self.path,
+                        self.place(Some("radius"), &what),
+                        format!(
+                            "radius {} takes the sphere beyond the range of {}-bit numbers (about ±{:.1e}): scale the scene down",
+                            num(r),
+                            8 * std::mem::size_of::<Real>(),
+                            Real::MAX
+                        ),
+                    )
+                })?;
                 let material = self.material_id(material.as_deref(), &what)?;
                 self.objects.push(Object {
                     geometry: Geometry::Sphere {
-                        center: v3(center.0),
-                        radius: radius.0 as Real,
+                        center: c,
+                        radius: r as Real,
                     },
                     material,
                 });
@@ -394,19 +498,20 @@ impl<'a> Builder<'a> {
                 if (0..3).any(|a| min.0[a] > max.0[a]) {
                     return Err(Error::scene(
                         self.path,
-                        self.place(None, &what),
+                        self.place(Some("min"), &what),
                         format!(
                             "box min {:?} is above max {:?} on some axis: swap the corners",
                             min.0, max.0
                         ),
                     ));
                 }
+                let (lo, hi) = (
+                    self.fit(min.0, "min", &what)?,
+                    self.fit(max.0, "max", &what)?,
+                );
                 let material = self.material_id(material.as_deref(), &what)?;
                 self.objects.push(Object {
-                    geometry: Geometry::Cuboid {
-                        min: v3(min.0),
-                        max: v3(max.0),
-                    },
+                    geometry: Geometry::Cuboid { min: lo, max: hi },
                     material,
                 });
             }
@@ -415,11 +520,12 @@ impl<'a> Builder<'a> {
                 normal,
                 material,
             } => {
+                let p = self.fit(point.0, "point", &what)?;
                 let material = self.material_id(material.as_deref(), &what)?;
                 self.objects.push(Object {
                     geometry: Geometry::Plane {
-                        point: v3(point.0),
-                        normal: v3(normal.0),
+                        point: p,
+                        normal: to_vec3(unit(normal.0)),
                     },
                     material,
                 });
@@ -445,6 +551,8 @@ impl<'a> Builder<'a> {
                 };
                 let (lo, hi) = match bounds {
                     Some((lo, hi)) => {
+                        self.fit(lo.0, "bounds", &what)?;
+                        self.fit(hi.0, "bounds", &what)?;
                         if (0..3).any(|a| lo.0[a] >= hi.0[a]) {
                             return Err(Error::scene(
                                 self.path,
@@ -456,6 +564,7 @@ impl<'a> Builder<'a> {
                     }
                     None => ([-1.0; 3], [1.0; 3]),
                 };
+                self.count_primitives(u64::from(count.0), &what)?;
                 let spheres = crate::random::spheres(count.0, *seed, radius.map(|r| r.0), lo, hi);
                 for (center, radius, color) in spheres {
                     let material = match forced {
@@ -488,13 +597,41 @@ impl<'a> Builder<'a> {
         overrides: &schema::NamedMap<String>,
     ) -> Result<()> {
         let needle = format!("\"{file}\"");
-        let place = self.place(Some(&needle), what);
-        let fpath = self.base.join(file);
-        let mut model = load_model(&fpath).map_err(|e| Error::Mesh {
-            scene: self.path.to_path_buf(),
-            place: place.clone(),
-            source: Box::new(e),
-        })?;
+        let place = |b: &Self| b.place(Some(&needle), what);
+        let mesh_error = |b: &Self, e: Error| match e {
+            Error::Denied {
+                reference, model, ..
+            } if !model => Error::Denied {
+                path: b.path.to_path_buf(),
+                place: place(b),
+                reference,
+                model,
+            },
+            e => Error::Mesh {
+                scene: b.path.to_path_buf(),
+                place: place(b),
+                source: Box::new(e),
+            },
+        };
+        let shown = self
+            .path
+            .parent()
+            .map_or_else(|| PathBuf::from(file), |d| d.join(file));
+        let real = self
+            .sandbox
+            .resolve(self.real, Path::new(file), false)
+            .map_err(|e| mesh_error(self, e))?;
+        let cached = match self.models.get(&real) {
+            Some(m) => m.clone(),
+            None => {
+                let m = model::load_resolved(&shown, &real, self.sandbox)
+                    .map_err(|e| mesh_error(self, e))?;
+                self.models.insert(real.clone(), m.clone());
+                m
+            }
+        };
+        self.count_primitives(cached.triangle_count() as u64, what)?;
+        let mut model = cached;
         if !transform.is_empty() {
             let m = transform
                 .iter()
@@ -502,7 +639,7 @@ impl<'a> Builder<'a> {
             model.transform(&m).map_err(|e| {
                 Error::scene(
                     self.path,
-                    place.clone(),
+                    place(self),
                     format!("transform of \"{file}\": {e}"),
                 )
             })?;
@@ -580,10 +717,9 @@ fn transform_matrix(op: &TransformDesc) -> DMat4 {
     match op {
         TransformDesc::Translate(t) => DMat4::from_translation(DVec3::from_array(t.0)),
         TransformDesc::Scale(s) => DMat4::from_scale(DVec3::from_array(s.0)),
-        TransformDesc::Rotate { axis, degrees } => DMat4::from_axis_angle(
-            DVec3::from_array(axis.0).normalize(),
-            degrees.0.to_radians(),
-        ),
+        TransformDesc::Rotate { axis, degrees } => {
+            DMat4::from_axis_angle(unit(axis.0), degrees.0.to_radians())
+        }
         TransformDesc::Euler { x, y, z } => DMat4::from_quat(DQuat::from_euler(
             glam::EulerRot::ZYX,
             z.0.to_radians(),
@@ -594,56 +730,6 @@ fn transform_matrix(op: &TransformDesc) -> DMat4 {
             // Rows in the file; glam wants columns.
             DMat4::from_cols_array_2d(&m.0).transpose()
         }
-    }
-}
-
-fn material(d: &MaterialDesc) -> Material {
-    match d {
-        MaterialDesc::Matte { color, ka, kd } => Material::Matte {
-            color: model::rgb(color.0),
-            ka: f32s(ka.0),
-            kd: f32s(kd.0),
-        },
-        MaterialDesc::Phong {
-            color,
-            ka,
-            kd,
-            ks,
-            exp,
-            specular,
-        } => Material::Phong {
-            color: model::rgb(color.0),
-            ka: f32s(ka.0),
-            kd: f32s(kd.0),
-            ks: f32s(ks.0),
-            exp: f32s(exp.0),
-            specular: model::rgb(specular.0),
-        },
-        MaterialDesc::Reflective {
-            color,
-            ka,
-            kd,
-            ks,
-            exp,
-            kr,
-            reflect,
-        } => Material::Reflective {
-            color: model::rgb(color.0),
-            ka: f32s(ka.0),
-            kd: f32s(kd.0),
-            ks: f32s(ks.0),
-            exp: f32s(exp.0),
-            kr: f32s(kr.0),
-            reflect: model::rgb(reflect.0),
-        },
-        MaterialDesc::Dielectric { ior, tint } => Material::Dielectric {
-            ior: f32s(ior.0),
-            tint: model::rgb(tint.0),
-        },
-        MaterialDesc::Emissive { color, strength } => Material::Emissive {
-            color: model::rgb(color.0),
-            strength: f32s(strength.0),
-        },
     }
 }
 
@@ -672,7 +758,10 @@ fn light(d: &LightDesc) -> Light {
             intensity,
             shadows,
         } => Light::Directional {
-            direction: v3(direction.0),
+            // Kept as written when it fits (the tracer normalises it).
+            direction: Some(v3(direction.0))
+                .filter(|d| d.is_finite())
+                .unwrap_or_else(|| to_vec3(unit(direction.0))),
             color: model::rgb(color.0),
             intensity: f32s(intensity.0),
             shadows: *shadows,
@@ -697,163 +786,6 @@ fn finite_bounds(objects: &[Object]) -> Aabb {
     })
 }
 
-/// A perspective camera that sees the whole box: it looks at the centre from
-/// the front (+z), a little to the right and above, far enough back for the
-/// bounding sphere to fit both the vertical and the horizontal field of view.
-#[must_use]
-pub fn frame(bounds: Aabb, vfov_deg: f64, aspect: f64) -> Camera {
-    let c = to_dvec3(bounds.centroid());
-    let r = (0.5 * to_dvec3(bounds.extent()).length())
-        .max(1e-6 * c.abs().max_element())
-        .max(1e-9);
-    let half_v = (vfov_deg * 0.5).to_radians();
-    let half_h = (half_v.tan() * aspect.max(1e-3)).atan();
-    let dist = r / half_v.min(half_h).sin() * 1.05;
-    let dir = DVec3::new(0.35, 0.3, 1.0).normalize();
-    Camera {
-        eye: to_vec3(c + dir * dist),
-        look_at: to_vec3(c),
-        up: Vec3::Y,
-        projection: Projection::Perspective {
-            vfov_deg: vfov_deg as Real,
-        },
-    }
-}
-
-/// Default image width of a model rendered on its own.
-const MODEL_WIDTH: u32 = 640;
-/// Default image height of a model rendered on its own.
-const MODEL_HEIGHT: u32 = 480;
-
-/// A scene that shows a model on its own: the file's camera (or one framing
-/// the model's bounds), the file's lights (or an ambient light plus a
-/// directional light from over the camera's shoulder, with shadows), the
-/// file's materials, 640×480 (or the file camera's aspect ratio), 1 spp.
-#[must_use]
-pub fn scene_from_model(model: Model) -> LoadedScene {
-    let mut materials: Vec<Material> = model.materials.iter().map(|m| m.material.clone()).collect();
-    let default_id = materials.len() as MaterialId;
-    let mut need_default = false;
-    let objects: Vec<Object> = model
-        .meshes
-        .iter()
-        .map(|mm| Object {
-            geometry: Geometry::Mesh(Box::new(mm.oriented())),
-            material: mm.material.map_or_else(
-                || {
-                    need_default = true;
-                    default_id
-                },
-                |k| k as MaterialId,
-            ),
-        })
-        .collect();
-    if need_default {
-        materials.push(model::default_material());
-    }
-    let (width, height) = match model.camera.as_ref().and_then(|c| c.aspect) {
-        Some(a) if a >= 1.0 => (
-            MODEL_WIDTH,
-            ((f64::from(MODEL_WIDTH) / a).round() as u32).max(1),
-        ),
-        Some(a) => (
-            ((f64::from(MODEL_HEIGHT) * a).round() as u32).max(1),
-            MODEL_HEIGHT,
-        ),
-        None => (MODEL_WIDTH, MODEL_HEIGHT),
-    };
-    let framed = model.camera.is_none();
-    let camera = match &model.camera {
-        Some(c) => c.camera.clone(),
-        None => frame(model.bounds(), 40.0, f64::from(width) / f64::from(height)),
-    };
-    let lights = if model.lights.is_empty() {
-        default_lights(&camera)
-    } else {
-        model.lights.clone()
-    };
-    LoadedScene {
-        scene: Scene {
-            camera,
-            settings: Settings {
-                width,
-                height,
-                spp: 1,
-                max_depth: 5,
-                background: Rgb::new(0.12, 0.13, 0.16),
-            },
-            materials,
-            lights,
-            objects,
-        },
-        source: model.path.clone(),
-        warnings: model.warnings,
-        framed_camera: framed,
-    }
-}
-
-/// Lights for a model without its own: a dim ambient light and a
-/// directional light from above and behind the camera's right shoulder.
-fn default_lights(camera: &Camera) -> Vec<Light> {
-    let back = to_dvec3(camera.eye - camera.look_at).normalize_or(DVec3::Z);
-    let up = to_dvec3(camera.up).normalize_or(DVec3::Y);
-    let right = up.cross(back).normalize_or(DVec3::X);
-    let toward = (back + up * 0.9 + right * 0.5).normalize_or(DVec3::Y);
-    vec![
-        Light::Ambient {
-            color: Rgb::ONE,
-            intensity: 0.25,
-        },
-        Light::Directional {
-            direction: to_vec3(toward),
-            color: Rgb::ONE,
-            intensity: 3.0,
-            shadows: true,
-        },
-    ]
-}
-
-/// Applies command-line overrides of the image size and sample count. With
-/// only one of width and height given, the other follows the scene's aspect
-/// ratio.
-///
-/// # Errors
-/// [`Error::Arg`] for a value out of range (sides 1..=16384, at most 2^26
-/// pixels, spp 1..=65536).
-pub fn apply_overrides(
-    settings: &mut Settings,
-    width: Option<u32>,
-    height: Option<u32>,
-    spp: Option<u32>,
-) -> Result<()> {
-    if let Some(w) = width {
-        schema::check_side(w).map_err(|m| Error::arg("--width", m))?;
-    }
-    if let Some(h) = height {
-        schema::check_side(h).map_err(|m| Error::arg("--height", m))?;
-    }
-    let aspect = f64::from(settings.width.max(1)) / f64::from(settings.height.max(1));
-    let (w, h) = match (width, height) {
-        (Some(w), Some(h)) => (w, h),
-        (Some(w), None) => (
-            w,
-            ((f64::from(w) / aspect).round() as u32).clamp(1, schema::MAX_SIDE),
-        ),
-        (None, Some(h)) => (
-            ((f64::from(h) * aspect).round() as u32).clamp(1, schema::MAX_SIDE),
-            h,
-        ),
-        (None, None) => (settings.width, settings.height),
-    };
-    schema::check_pixels(w, h).map_err(|m| Error::arg("--width/--height", m))?;
-    settings.width = w;
-    settings.height = h;
-    if let Some(s) = spp {
-        settings.spp = schema::check_spp(s).map_err(|m| Error::arg("--spp", m))?;
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -868,15 +800,6 @@ mod tests {
         assert!(s.warnings.is_empty(), "{:?}", s.warnings);
         assert!(!s.framed_camera);
         assert!(s.scene.objects.len() >= 4);
-    }
-
-    #[test]
-    fn locate_finds_line_and_column() {
-        assert_eq!(locate("ab\ncd \"x\"", "\"x\""), Some((2, 4)));
-        assert_eq!(locate("\"x\"", "\"x\""), Some((1, 1)));
-        assert_eq!(locate("abc", "z"), None);
-        assert_eq!(locate("// \"x\"\n  \"x\"", "\"x\""), Some((2, 3)));
-        assert_eq!(line_col(b"ab\ncd", 4), (2, 2));
     }
 
     #[test]
@@ -950,28 +873,5 @@ mod tests {
         let p = transform_matrix(&e).transform_point3(DVec3::Y);
         // Rx(90°) takes +y to +z; Ry(90°) takes +z to +x.
         assert!((p - DVec3::X).length() < 1e-12, "{p}");
-    }
-
-    #[test]
-    fn framing_sees_the_whole_box() {
-        let b = Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0));
-        let cam = frame(b, 45.0, 4.0 / 3.0);
-        let d = to_dvec3(cam.eye - cam.look_at).length();
-        assert!(d > 3.0_f64.sqrt() / (22.5_f64.to_radians().sin()), "{d}");
-    }
-
-    #[test]
-    fn overrides_keep_the_aspect_ratio_and_check_ranges() {
-        let mut s = Settings {
-            width: 640,
-            height: 480,
-            ..Settings::default()
-        };
-        apply_overrides(&mut s, Some(64), None, Some(4)).unwrap();
-        assert_eq!((s.width, s.height, s.spp), (64, 48, 4));
-        assert!(apply_overrides(&mut s, Some(0), None, None).is_err());
-        assert!(apply_overrides(&mut s, None, None, Some(0)).is_err());
-        let e = apply_overrides(&mut s, Some(16384), Some(16384), None).unwrap_err();
-        assert!(e.to_string().contains("too large"), "{e}");
     }
 }

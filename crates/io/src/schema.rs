@@ -8,7 +8,7 @@
 //! carries the position of the value. `docs/scene-format.md` documents every
 //! field with an example; keep it in step.
 
-use gridrt_tracer::MAX_PIXELS;
+use gridrt_tracer::{Material, MAX_PIXELS};
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::Deserialize;
 use std::fmt;
@@ -744,6 +744,67 @@ impl TryFrom<[[f64; 4]; 4]> for MatrixDesc {
 /// (`implicit_some`, so `material: "red"` needs no `Some(...)`).
 pub(crate) fn ron_options() -> ron::Options {
     ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+}
+
+impl MaterialDesc {
+    /// The tracer's material.
+    pub(crate) fn material(&self) -> Material {
+        match self {
+            MaterialDesc::Matte { color, ka, kd } => Material::Matte {
+                color: rgb(color.0),
+                ka: f64_to_f32(ka.0),
+                kd: f64_to_f32(kd.0),
+            },
+            MaterialDesc::Phong {
+                color,
+                ka,
+                kd,
+                ks,
+                exp,
+                specular,
+            } => Material::Phong {
+                color: rgb(color.0),
+                ka: f64_to_f32(ka.0),
+                kd: f64_to_f32(kd.0),
+                ks: f64_to_f32(ks.0),
+                exp: f64_to_f32(exp.0),
+                specular: rgb(specular.0),
+            },
+            MaterialDesc::Reflective {
+                color,
+                ka,
+                kd,
+                ks,
+                exp,
+                kr,
+                reflect,
+            } => Material::Reflective {
+                color: rgb(color.0),
+                ka: f64_to_f32(ka.0),
+                kd: f64_to_f32(kd.0),
+                ks: f64_to_f32(ks.0),
+                exp: f64_to_f32(exp.0),
+                kr: f64_to_f32(kr.0),
+                reflect: rgb(reflect.0),
+            },
+            MaterialDesc::Dielectric { ior, tint } => Material::Dielectric {
+                ior: f64_to_f32(ior.0),
+                tint: rgb(tint.0),
+            },
+            MaterialDesc::Emissive { color, strength } => Material::Emissive {
+                color: rgb(color.0),
+                strength: f64_to_f32(strength.0),
+            },
+        }
+    }
+}
+
+fn f64_to_f32(x: f64) -> f32 {
+    x as f32
+}
+
+fn rgb(c: [f64; 3]) -> gridrt_tracer::Rgb {
+    crate::model::rgb(c)
 }
 
 #[cfg(test)]

@@ -2,7 +2,8 @@
 //! that names the file and the place and says what to fix. Never a panic.
 
 use crate::fixture;
-use gridrt_io::{load_scene, parse_rays, Error};
+use crate::load_scene;
+use gridrt_io::{parse_rays, Error};
 
 /// (file in fixtures/bad, substrings the message must contain).
 const CASES: &[(&str, &[&str])] = &[
@@ -254,7 +255,10 @@ fn missing_unreadable_and_unknown_files() {
     let sub = dir.path().join("adir.ron");
     std::fs::create_dir(&sub).unwrap();
     let msg = load_scene(&sub).unwrap_err().to_string();
-    assert!(msg.contains("adir.ron: cannot read the file"), "{msg}");
+    assert!(
+        msg.contains("adir.ron: is a folder, not a regular file"),
+        "{msg}"
+    );
     // An unknown extension.
     let txt = dir.path().join("scene.txt");
     std::fs::write(&txt, "hello").unwrap();

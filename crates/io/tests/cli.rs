@@ -89,6 +89,7 @@ fn render_subcommand_exr_and_stats() {
 fn render_a_fixture_scene_and_a_model_with_each_accelerator() {
     let dir = tempfile::tempdir().unwrap();
     let scene = fixture("scenes/obj_cube_transform.ron");
+    let fixtures = crate::fixtures();
     for accel in ["grid", "hashed-grid", "dense-grid", "exhaustive"] {
         let out = format!("{accel}.png");
         let o = gridrt(
@@ -107,6 +108,8 @@ fn render_a_fixture_scene_and_a_model_with_each_accelerator() {
                 "2",
                 "--grid-nest-m",
                 "1.5",
+                "--allow-path",
+                fixtures.to_str().unwrap(),
             ],
             dir.path(),
         );
@@ -216,7 +219,19 @@ fn usage_errors_exit_with_2() {
 fn info_prints_scene_and_grid_statistics() {
     let dir = tempfile::tempdir().unwrap();
     let p = fixture("scenes/gltf_hierarchy.ron");
+    // The scene's meshes are in ../meshes: outside its folder.
     let o = gridrt(&["info", p.to_str().unwrap()], dir.path());
+    assert_one_line_error(&o, "--allow-path");
+    let fixtures = crate::fixtures();
+    let o = gridrt(
+        &[
+            "info",
+            p.to_str().unwrap(),
+            "--allow-path",
+            fixtures.to_str().unwrap(),
+        ],
+        dir.path(),
+    );
     assert!(o.status.success(), "{}", stderr(&o));
     let s = stdout(&o);
     for needle in [

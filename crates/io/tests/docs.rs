@@ -3,7 +3,7 @@
 //! the schema in step.
 
 use crate::fixture;
-use gridrt_io::parse_scene;
+use crate::parse_scene;
 
 const SPHERE: &str = "Sphere(center: (0, 0, 0), radius: 1)";
 

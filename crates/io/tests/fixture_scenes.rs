@@ -2,7 +2,8 @@
 //! renders (tiny) without a NaN.
 
 use crate::fixture;
-use gridrt_io::{apply_overrides, load_scene};
+use crate::load_scene;
+use gridrt_io::apply_overrides;
 use gridrt_tracer::{render, RenderOptions, Renderer};
 
 fn scene_files() -> Vec<std::path::PathBuf> {

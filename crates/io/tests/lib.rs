@@ -13,12 +13,40 @@ mod fixture_scenes;
 mod models;
 mod passes;
 mod shared;
+mod untrusted;
+mod untrusted_messages;
+mod untrusted_outputs;
 
 use std::path::PathBuf;
 
 /// `fixtures/` at the workspace root.
 pub fn fixtures() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
+}
+
+/// The sandbox of `path` with `fixtures/` and `../shared/scenes` allowed
+/// too (fixture scenes name meshes in `../meshes`).
+pub fn sandbox(path: &std::path::Path) -> gridrt_io::Sandbox {
+    let mut s = gridrt_io::Sandbox::for_input(path);
+    s.allow(&fixtures()).unwrap();
+    let shared = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes");
+    if shared.is_dir() {
+        s.allow(&shared).unwrap();
+    }
+    s
+}
+
+/// [`gridrt_io::load_scene`] with [`sandbox`].
+pub fn load_scene(path: &std::path::Path) -> gridrt_io::Result<gridrt_io::LoadedScene> {
+    gridrt_io::load_scene_in(path, &sandbox(path))
+}
+
+/// [`gridrt_io::parse_scene`] with [`sandbox`].
+pub fn parse_scene(
+    text: &str,
+    path: &std::path::Path,
+) -> gridrt_io::Result<gridrt_io::LoadedScene> {
+    gridrt_io::parse_scene_in(text, path, &sandbox(path))
 }
 
 /// A file under `fixtures/`.

@@ -2,8 +2,9 @@
 //! cameras, lights and materials, and meshes placed by scene files.
 
 use crate::fixture;
+use crate::{load_scene, parse_scene};
 use gridrt_bbox::{Aabb, Real, Vec3};
-use gridrt_io::{load_model, load_scene, parse_scene, scene_from_model, Model};
+use gridrt_io::{load_model, scene_from_model, Model};
 use gridrt_tracer::{Geometry, Light, Material, Projection};
 
 fn bounds_of(model: &Model, range: std::ops::Range<usize>) -> Aabb {

@@ -2,7 +2,8 @@
 //! the workspace). Skipped, with a note, when that folder is absent: the
 //! project's own tests never need it.
 
-use gridrt_io::{load_model, load_scene};
+use crate::load_scene;
+use gridrt_io::load_model;
 use std::path::PathBuf;
 
 fn shared_scenes() -> Option<PathBuf> {

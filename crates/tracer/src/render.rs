@@ -227,6 +227,21 @@ impl Pool {
         }
     }
 
+    /// True when the renderer has worker threads. Without them (one thread
+    /// asked for, or none could be started, as in a container whose process
+    /// limit is reached) everything runs on the caller's thread and nothing
+    /// touches rayon's global pool, which would panic when it cannot start.
+    fn is_parallel(&self) -> bool {
+        #[cfg(feature = "rayon")]
+        {
+            self.pool.is_some()
+        }
+        #[cfg(not(feature = "rayon"))]
+        {
+            false
+        }
+    }
+
     /// Runs `f` inside the pool (so rayon calls in it use the pool's threads).
     fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
         #[cfg(feature = "rayon")]
@@ -259,9 +274,9 @@ impl Pool {
 }
 
 /// The grid configuration the options ask for (`None`: exhaustive).
-fn grid_config(options: &RenderOptions) -> Option<GridConfig> {
+fn grid_config(options: &RenderOptions, parallel: bool) -> Option<GridConfig> {
     let mut config = options.grid;
-    if options.threads == Some(1) {
+    if !parallel {
         config.parallel_build = false;
     }
     match options.accel {
@@ -281,8 +296,9 @@ fn build_accel<P: Primitive + Clone + Send>(
     prims: Vec<P>,
     options: &RenderOptions,
     copies: bool,
+    parallel: bool,
 ) -> (AccelOf<P>, Option<GridStats>) {
-    match grid_config(options) {
+    match grid_config(options, parallel) {
         Some(config) => {
             let grid = if copies {
                 Grid::build_with_copies(prims, &config)
@@ -339,14 +355,15 @@ impl Renderer {
             spp,
         } = prepare(scene, set)?;
         let pool = Pool::new(options.threads);
+        let parallel = pool.is_parallel();
         let prim_count = prims.len() + data.planes.len();
         let (accel, grid_stats) = pool.install(|| match prims {
             Prims::Spheres(v) => {
-                let (a, s) = build_accel(v, options, true);
+                let (a, s) = build_accel(v, options, true, parallel);
                 (Accel::Spheres(a), s)
             }
             Prims::Shapes(v) => {
-                let (a, s) = build_accel(v, options, false);
+                let (a, s) = build_accel(v, options, false, parallel);
                 (Accel::Shapes(a), s)
             }
         });

@@ -9,16 +9,20 @@
 //! of a panic. Cyclic node graphs are rejected.
 
 use super::base64;
+use super::gltf_graph;
 use super::{check_normals, to_vec3, ModelCamera, ModelMesh, NamedMaterial, Xform};
 use crate::error::{Error, Result};
 use crate::model::Model;
+use crate::sandbox::{uri_path, Sandbox};
 use glam::{DMat4, DQuat, DVec3};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 use gltf::Document;
 use gridrt_bbox::{Real, Vec3};
 use gridrt_tracer::{Camera, Light, Material, Mesh, Projection, Rgb};
+use std::collections::HashMap;
 use std::path::Path;
+use std::rc::Rc;
 
 /// The warning for a spot light turned into a point light (scenes that do
 /// not use the file's lights drop it).
@@ -27,15 +31,17 @@ pub(crate) const SPOT_WARNING: &str = "a spot light is rendered as a point light
 /// Deepest node hierarchy accepted (deeper means a cycle or a broken file).
 const MAX_DEPTH: usize = 256;
 
-/// Reads a `.gltf` or `.glb` file.
-pub(crate) fn load(path: &Path) -> Result<Model> {
-    let bytes = std::fs::read(path).map_err(|e| Error::read(path, e))?;
-    check_kind(path, &bytes)?;
+/// Reads a `.gltf` or `.glb` file (`bytes`, read from `real`, named `path`
+/// in messages) and its buffers, from the folders the sandbox allows a
+/// model.
+pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) -> Result<Model> {
+    check_kind(path, bytes)?;
+    let bytes = super::obj::strip_bom(bytes);
     let gltf =
-        gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| parse_error(path, e))?;
+        gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| parse_error(path, e))?;
     validate(path, &gltf.document)?;
     let doc = &gltf.document;
-    let buffers = load_buffers(path, doc, gltf.blob.clone())?;
+    let buffers = load_buffers(path, real, sandbox, doc, gltf.blob.clone())?;
 
     let mut warnings = Vec::new();
     let materials = doc
@@ -70,6 +76,8 @@ pub(crate) fn load(path: &Path) -> Result<Model> {
         lights: Vec::new(),
         warnings,
         stack: Vec::new(),
+        vec3_cache: HashMap::new(),
+        index_cache: HashMap::new(),
     };
     let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
         Some(scene) => scene.nodes().collect(),
@@ -84,6 +92,8 @@ pub(crate) fn load(path: &Path) -> Result<Model> {
             doc.nodes().filter(|n| !is_child[n.index()]).collect()
         }
     };
+    let root_ids: Vec<usize> = roots.iter().map(gltf::Node::index).collect();
+    gltf_graph::check_expansion(path, doc.as_json(), &root_ids, &sandbox.limits)?;
     for root in roots {
         loader.visit(&root, DMat4::IDENTITY)?;
     }
@@ -178,6 +188,7 @@ fn validate(path: &Path, doc: &Document) -> Result<()> {
             }
         }
     }
+    gltf_graph::check_unchecked(path, root)?;
     let mut errors: Vec<String> = Vec::new();
     root.validate(root, gltf::json::Path::new, &mut |p, e| {
         let p = p();
@@ -204,9 +215,16 @@ fn validate(path: &Path, doc: &Document) -> Result<()> {
     }
 }
 
-/// Reads every buffer: the GLB binary chunk, a `data:` URI, or a file
-/// relative to the glTF file.
-fn load_buffers(path: &Path, doc: &Document, mut blob: Option<Vec<u8>>) -> Result<Vec<Vec<u8>>> {
+/// Reads every buffer: the GLB binary chunk, a `data:` URI, or a file the
+/// sandbox lets the model read (the URI percent-decoded first, then
+/// resolved against the glTF file's folder, then checked).
+fn load_buffers(
+    path: &Path,
+    real: &Path,
+    sandbox: &Sandbox,
+    doc: &Document,
+    mut blob: Option<Vec<u8>>,
+) -> Result<Vec<Vec<u8>>> {
     let dir = path.parent().unwrap_or_else(|| Path::new(""));
     let mut out = Vec::new();
     for b in doc.buffers() {
@@ -230,27 +248,18 @@ fn load_buffers(path: &Path, doc: &Document, mut blob: Option<Vec<u8>>) -> Resul
                         Error::gltf(path, &place, "only base64 data: URIs are supported")
                     })?;
                     base64::decode(payload).map_err(|e| Error::gltf(path, &place, e))?
-                } else if uri.contains("://") {
-                    return Err(Error::gltf(
-                        path,
-                        &place,
-                        format!(
-                            "URI \"{uri}\" is not a relative file: download it beside the .gltf"
-                        ),
-                    ));
                 } else {
-                    let rel =
-                        base64::percent_decode(uri).map_err(|e| Error::gltf(path, &place, e))?;
-                    let file = dir.join(rel);
-                    std::fs::read(&file).map_err(|e| {
-                        Error::gltf(
+                    let rel = uri_path(uri).map_err(|e| Error::gltf(path, &place, e))?;
+                    let file = sandbox.resolve(real, &rel, true).map_err(|e| match e {
+                        Error::Denied { .. } => e,
+                        other => Error::gltf(
                             path,
                             &place,
-                            format!(
-                                "cannot read {}: {e} (the .bin must sit where the .gltf's URI says)",
-                                file.display()
-                            ),
-                        )
+                            format!("{other} (the .bin must sit where the .gltf's URI says)"),
+                        ),
+                    })?;
+                    sandbox.read(&file).map_err(|e| {
+                        Error::gltf(path, &place, e.renamed(&file, &dir.join(&rel)).to_string())
                     })?
                 }
             }
@@ -283,7 +292,16 @@ struct Loader<'a> {
     warnings: Vec<String>,
     /// Nodes on the current path, to detect cycles.
     stack: Vec<usize>,
+    /// VEC3 accessors read so far: an accessor shared by many primitives
+    /// or instances (a sparse one without a buffer view included) is
+    /// decoded once.
+    vec3_cache: HashMap<usize, Rc<AccessorResult<[f32; 3]>>>,
+    /// Index accessors read so far.
+    index_cache: HashMap<usize, Rc<AccessorResult<u32>>>,
 }
+
+/// A decoded accessor, or why it could not be read.
+type AccessorResult<T> = std::result::Result<Vec<T>, String>;
 
 /// `node 3 "name"`.
 fn node_label(node: &gltf::Node) -> String {
@@ -322,6 +340,24 @@ fn local_matrix(node: &gltf::Node) -> Option<DMat4> {
 }
 
 impl Loader<'_> {
+    /// A VEC3 accessor, read once.
+    fn vec3(&mut self, acc: &gltf::Accessor) -> Rc<AccessorResult<[f32; 3]>> {
+        let buffers = self.buffers;
+        self.vec3_cache
+            .entry(acc.index())
+            .or_insert_with(|| Rc::new(read_vec3(acc, buffers)))
+            .clone()
+    }
+
+    /// An index accessor, read once.
+    fn indices(&mut self, acc: &gltf::Accessor) -> Rc<AccessorResult<u32>> {
+        let buffers = self.buffers;
+        self.index_cache
+            .entry(acc.index())
+            .or_insert_with(|| Rc::new(read_indices(acc, buffers)))
+            .clone()
+    }
+
     fn visit(&mut self, node: &gltf::Node, parent: DMat4) -> Result<()> {
         let label = node_label(node);
         if self.stack.contains(&node.index()) || self.stack.len() >= MAX_DEPTH {
@@ -389,25 +425,37 @@ impl Loader<'_> {
         let pos_acc = prim
             .get(&gltf::Semantic::Positions)
             .ok_or_else(|| err("the primitive has no POSITION attribute".into()))?;
-        let raw = read_vec3(&pos_acc, self.buffers).map_err(|e| err(format!("POSITION: {e}")))?;
+        let raw = self.vec3(&pos_acc);
+        let raw = raw
+            .as_ref()
+            .as_ref()
+            .map_err(|e| err(format!("POSITION: {e}")))?;
         if let Some(k) = raw.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
             return Err(err(format!(
                 "vertex {k} has a non-finite position (NaN or infinity): fix the exporter's output"
             )));
         }
         let n = raw.len();
-        let indices: Vec<u32> = match prim.indices() {
+        let read;
+        let all: Vec<u32>;
+        let indices: &[u32] = match prim.indices() {
             Some(acc) => {
-                read_indices(&acc, self.buffers).map_err(|e| err(format!("indices: {e}")))?
+                read = self.indices(&acc);
+                read.as_ref()
+                    .as_ref()
+                    .map_err(|e| err(format!("indices: {e}")))?
             }
-            None => (0..n as u32).collect(),
+            None => {
+                all = (0..n as u32).collect();
+                &all
+            }
         };
         if let Some(&bad) = indices.iter().find(|&&i| i as usize >= n) {
             return Err(err(format!(
                 "index {bad} is out of range: the primitive has {n} vertices"
             )));
         }
-        let triangles = assemble(&indices, mode);
+        let triangles = assemble(indices, mode);
         if triangles.is_empty() {
             self.warnings.push(format!(
                 "{}: {place}: no triangles (too few indices), skipped",
@@ -416,8 +464,8 @@ impl Loader<'_> {
             return Ok(());
         }
         let normals = match prim.get(&gltf::Semantic::Normals) {
-            Some(acc) => match read_vec3(&acc, self.buffers) {
-                Ok(v) if v.len() == n => v,
+            Some(acc) => match self.vec3(&acc).as_ref() {
+                Ok(v) if v.len() == n => v.clone(),
                 _ => {
                     self.warnings.push(format!(
                         "{}: {place}: unreadable NORMAL attribute, using flat normals",

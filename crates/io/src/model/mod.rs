@@ -2,12 +2,14 @@
 //! triangle meshes in the file's world space, with the file's materials and,
 //! for glTF, its cameras and lights.
 
-mod base64;
+pub(crate) mod base64;
 mod gltf;
+mod gltf_graph;
 mod obj;
 
 pub(crate) use self::gltf::SPOT_WARNING;
 use crate::error::{Error, Result};
+use crate::sandbox::Sandbox;
 use glam::{DMat3, DMat4, DVec3};
 use gridrt_bbox::{Aabb, Real, Vec3};
 use gridrt_tracer::{Camera, Light, Material, Mesh, Rgb};
@@ -101,21 +103,50 @@ pub struct ModelCamera {
     pub aspect: Option<f64>,
 }
 
-/// Reads an OBJ or glTF file (by extension).
+/// Reads an OBJ or glTF file (by extension), reading only from its own
+/// folder and the working directory (see [`load_model_in`]).
 ///
 /// # Errors
-/// [`Error::UnsupportedInput`] for another extension, [`Error::Read`] when
-/// the file cannot be read, [`Error::Obj`] / [`Error::Gltf`] when it is
-/// malformed or holds no triangles.
+/// As [`load_model_in`].
 pub fn load_model(path: &Path) -> Result<Model> {
+    load_model_in(path, &Sandbox::for_input(path))
+}
+
+/// Reads an OBJ or glTF file (by extension) under a [`Sandbox`]: the file
+/// itself is read as named (it must be a regular file within the size
+/// limit); the files it names (`mtllib`, buffers) only from its own folder
+/// and the sandbox's explicitly allowed folders.
+///
+/// # Errors
+/// [`Error::UnsupportedInput`] for another extension, [`Error::Read`] /
+/// [`Error::NotRegular`] when the file cannot be read, [`Error::Denied`]
+/// for a reference outside the allowed folders, [`Error::Limit`] over a
+/// budget, [`Error::Obj`] / [`Error::Gltf`] when it is malformed or holds
+/// no triangles.
+pub fn load_model_in(path: &Path, sandbox: &Sandbox) -> Result<Model> {
+    if ModelFormat::from_path(path).is_none() {
+        return Err(Error::UnsupportedInput {
+            path: path.to_path_buf(),
+            models_only: true,
+        });
+    }
+    let real = crate::sandbox::canonical(path);
+    load_resolved(path, &real, sandbox)
+}
+
+/// Reads a model whose path the sandbox resolved: `path` names it in
+/// messages, `real` is its canonical path.
+pub(crate) fn load_resolved(path: &Path, real: &Path, sandbox: &Sandbox) -> Result<Model> {
+    let bytes = sandbox.read(real).map_err(|e| e.renamed(real, path))?;
     match ModelFormat::from_path(path) {
-        Some(ModelFormat::Obj) => obj::load(path),
-        Some(ModelFormat::Gltf) => gltf::load(path),
+        Some(ModelFormat::Obj) => obj::load(path, real, &bytes, sandbox),
+        Some(ModelFormat::Gltf) => gltf::load(path, real, &bytes, sandbox),
         None => Err(Error::UnsupportedInput {
             path: path.to_path_buf(),
             models_only: true,
         }),
     }
+    .map_err(|e| e.renamed(real, path))
 }
 
 impl Model {

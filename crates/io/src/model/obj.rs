@@ -9,15 +9,17 @@
 use super::{check_normals, default_material, ModelMesh, NamedMaterial};
 use crate::error::{Error, Result};
 use crate::model::Model;
+use crate::sandbox::Sandbox;
 use gridrt_bbox::{Real, Vec3};
 use gridrt_tracer::{Material, Mesh, Rgb};
 use std::cell::RefCell;
 use std::io::Cursor;
 use std::path::Path;
 
-/// Reads an OBJ file and the MTL libraries it names.
-pub(crate) fn load(path: &Path) -> Result<Model> {
-    let bytes = std::fs::read(path).map_err(|e| Error::read(path, e))?;
+/// Reads an OBJ file (`bytes`, read from `real`, named `path` in messages)
+/// and the MTL libraries it names, from the folders the sandbox allows a
+/// model.
+pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) -> Result<Model> {
     // OBJ is text: a NUL byte near the start means an image or a binary
     // mesh with the wrong extension, which would otherwise read as an OBJ
     // with no faces.
@@ -28,7 +30,7 @@ pub(crate) fn load(path: &Path) -> Result<Model> {
             "the file is binary, not OBJ text (is it really an OBJ?)",
         ));
     }
-    let text = String::from_utf8_lossy(&bytes);
+    let text = String::from_utf8_lossy(strip_bom(bytes));
     let mut warnings = Vec::new();
     validate_obj(path, &text, &mut warnings)?;
 
@@ -42,7 +44,31 @@ pub(crate) fn load(path: &Path) -> Result<Model> {
         ignore_lines: true,
     };
     let loaded = tobj::load_obj_buf(&mut Cursor::new(text.as_bytes()), &options, |mtl| {
-        load_mtl(&dir.join(mtl), &mtl_error, &mtl_warnings)
+        if mtl_error.borrow().is_some() {
+            return Err(tobj::LoadError::MaterialParseError);
+        }
+        if mtl.as_os_str().is_empty() {
+            mtl_warnings.borrow_mut().push(format!(
+                "{}: an `mtllib` line names no file; its materials use the default",
+                path.display()
+            ));
+            return Err(tobj::LoadError::OpenFileFailed);
+        }
+        let shown = dir.join(mtl);
+        match sandbox.resolve(real, Path::new(mtl), true) {
+            Ok(file) => load_mtl(&shown, &file, sandbox, &mtl_error, &mtl_warnings),
+            Err(e @ Error::Read { .. }) => {
+                mtl_warnings.borrow_mut().push(format!(
+                    "{e}; the materials of {} use the default",
+                    path.display()
+                ));
+                Err(tobj::LoadError::OpenFileFailed)
+            }
+            Err(e) => {
+                *mtl_error.borrow_mut() = Some(e);
+                Err(tobj::LoadError::MaterialParseError)
+            }
+        }
     });
     if let Some(e) = mtl_error.into_inner() {
         return Err(e);
@@ -99,6 +125,11 @@ pub(crate) fn load(path: &Path) -> Result<Model> {
         lights: Vec::new(),
         warnings,
     })
+}
+
+/// `bytes` without a UTF-8 byte-order mark.
+pub(crate) fn strip_bom(bytes: &[u8]) -> &[u8] {
+    bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes)
 }
 
 /// The file name for mesh names (`cube.obj`).
@@ -243,6 +274,11 @@ fn validate_obj(path: &Path, text: &str, warnings: &mut Vec<String>) -> Result<(
                 })?;
                 nvn += 1;
             }
+            "usemtl" if words.next().is_none() => {
+                return Err(err(
+                    "`usemtl` needs the name of a material from the `mtllib`".to_string(),
+                ));
+            }
             "f" | "l" => {
                 let mut count = 0;
                 for w in words {
@@ -283,11 +319,10 @@ fn check_vertex_ref(word: &str, counts: [usize; 3]) -> std::result::Result<(), S
         let idx: i64 = p
             .parse()
             .map_err(|_| format!("bad face vertex `{word}`: `{p}` is not an integer index"))?;
-        let n = counts[k] as i64;
-        let ok = if idx > 0 {
-            idx <= n
-        } else if idx < 0 {
-            -idx <= n
+        let n = counts[k] as u64;
+        // unsigned_abs: -9223372036854775808 has no i64 negation.
+        let ok = if idx != 0 {
+            idx.unsigned_abs() <= n
         } else {
             return Err(format!(
                 "face index 0 in `{word}`: OBJ indices start at 1 (or count back from -1)"
@@ -308,21 +343,27 @@ fn check_vertex_ref(word: &str, counts: [usize; 3]) -> std::result::Result<(), S
 /// warning (the meshes get the default material); a malformed one an error.
 fn load_mtl(
     path: &Path,
+    real: &Path,
+    sandbox: &Sandbox,
     error: &RefCell<Option<Error>>,
     warnings: &RefCell<Vec<String>>,
 ) -> tobj::MTLLoadResult {
     let fail = Err(tobj::LoadError::MaterialParseError);
-    let bytes = match std::fs::read(path) {
+    let bytes = match sandbox.read(real) {
         Ok(b) => b,
-        Err(e) => {
+        Err(e @ Error::Read { .. }) => {
             warnings.borrow_mut().push(format!(
-                "{}: material library not read ({e}); its materials use the default",
-                path.display()
+                "{}; its materials use the default",
+                e.renamed(real, path)
             ));
             return Err(tobj::LoadError::OpenFileFailed);
         }
+        Err(e) => {
+            *error.borrow_mut() = Some(e.renamed(real, path));
+            return fail;
+        }
     };
-    let text = String::from_utf8_lossy(&bytes);
+    let text = String::from_utf8_lossy(strip_bom(&bytes));
     match normalize_mtl(path, &text) {
         Ok(fixed) => tobj::load_mtl_buf(&mut Cursor::new(fixed.as_bytes())).inspect_err(|e| {
             *error.borrow_mut() = Some(Error::obj(
@@ -381,6 +422,13 @@ fn normalize_mtl(path: &Path, text: &str) -> Result<String> {
                     "`illum` needs an illumination model 0 to 10, found `{}`",
                     line.trim()
                 )));
+            }
+            // Textures are not used; their statements (tobj rejects a
+            // bare `map_Kd`, which would lose every material) are dropped.
+            k if k.starts_with("map_")
+                || matches!(k, "bump" | "disp" | "decal" | "refl" | "norm") =>
+            {
+                continue;
             }
             "newmtl" if line.trim().len() <= "newmtl".len() => {
                 return Err(err("`newmtl` needs a material name".to_string()));

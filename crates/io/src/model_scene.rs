@@ -1,0 +1,198 @@
+//! Scenes without a scene file: a model rendered on its own (its camera or
+//! one that frames it, its lights or default ones), and the command line's
+//! overrides of the image size and sample count.
+
+use crate::error::{Error, Result};
+use crate::model::{self, to_dvec3, to_vec3, Model};
+use crate::scene::LoadedScene;
+use crate::schema;
+use glam::DVec3;
+use gridrt_bbox::{Aabb, Real, Vec3};
+use gridrt_tracer::{
+    Camera, Geometry, Light, Material, MaterialId, Object, Projection, Rgb, Scene, Settings,
+};
+
+/// A perspective camera that sees the whole box: it looks at the centre from
+/// the front (+z), a little to the right and above, far enough back for the
+/// bounding sphere to fit both the vertical and the horizontal field of view.
+#[must_use]
+pub fn frame(bounds: Aabb, vfov_deg: f64, aspect: f64) -> Camera {
+    let c = to_dvec3(bounds.centroid());
+    let r = (0.5 * to_dvec3(bounds.extent()).length())
+        .max(1e-6 * c.abs().max_element())
+        .max(1e-9);
+    let half_v = (vfov_deg * 0.5).to_radians();
+    let half_h = (half_v.tan() * aspect.max(1e-3)).atan();
+    let dist = r / half_v.min(half_h).sin() * 1.05;
+    let dir = DVec3::new(0.35, 0.3, 1.0).normalize();
+    Camera {
+        eye: to_vec3(c + dir * dist),
+        look_at: to_vec3(c),
+        up: Vec3::Y,
+        projection: Projection::Perspective {
+            vfov_deg: vfov_deg as Real,
+        },
+    }
+}
+
+/// Default image width of a model rendered on its own.
+const MODEL_WIDTH: u32 = 640;
+/// Default image height of a model rendered on its own.
+const MODEL_HEIGHT: u32 = 480;
+
+/// A scene that shows a model on its own: the file's camera (or one framing
+/// the model's bounds), the file's lights (or an ambient light plus a
+/// directional light from over the camera's shoulder, with shadows), the
+/// file's materials, 640×480 (or the file camera's aspect ratio), 1 spp.
+#[must_use]
+pub fn scene_from_model(model: Model) -> LoadedScene {
+    let mut materials: Vec<Material> = model.materials.iter().map(|m| m.material.clone()).collect();
+    let default_id = materials.len() as MaterialId;
+    let mut need_default = false;
+    let objects: Vec<Object> = model
+        .meshes
+        .iter()
+        .map(|mm| Object {
+            geometry: Geometry::Mesh(Box::new(mm.oriented())),
+            material: mm.material.map_or_else(
+                || {
+                    need_default = true;
+                    default_id
+                },
+                |k| k as MaterialId,
+            ),
+        })
+        .collect();
+    if need_default {
+        materials.push(model::default_material());
+    }
+    let (width, height) = match model.camera.as_ref().and_then(|c| c.aspect) {
+        Some(a) if a >= 1.0 => (
+            MODEL_WIDTH,
+            ((f64::from(MODEL_WIDTH) / a).round() as u32).max(1),
+        ),
+        Some(a) => (
+            ((f64::from(MODEL_HEIGHT) * a).round() as u32).max(1),
+            MODEL_HEIGHT,
+        ),
+        None => (MODEL_WIDTH, MODEL_HEIGHT),
+    };
+    let framed = model.camera.is_none();
+    let camera = match &model.camera {
+        Some(c) => c.camera.clone(),
+        None => frame(model.bounds(), 40.0, f64::from(width) / f64::from(height)),
+    };
+    let lights = if model.lights.is_empty() {
+        default_lights(&camera)
+    } else {
+        model.lights.clone()
+    };
+    LoadedScene {
+        scene: Scene {
+            camera,
+            settings: Settings {
+                width,
+                height,
+                spp: 1,
+                max_depth: 5,
+                background: Rgb::new(0.12, 0.13, 0.16),
+            },
+            materials,
+            lights,
+            objects,
+        },
+        source: model.path.clone(),
+        warnings: model.warnings,
+        framed_camera: framed,
+    }
+}
+
+/// Lights for a model without its own: a dim ambient light and a
+/// directional light from above and behind the camera's right shoulder.
+fn default_lights(camera: &Camera) -> Vec<Light> {
+    let back = to_dvec3(camera.eye - camera.look_at).normalize_or(DVec3::Z);
+    let up = to_dvec3(camera.up).normalize_or(DVec3::Y);
+    let right = up.cross(back).normalize_or(DVec3::X);
+    let toward = (back + up * 0.9 + right * 0.5).normalize_or(DVec3::Y);
+    vec![
+        Light::Ambient {
+            color: Rgb::ONE,
+            intensity: 0.25,
+        },
+        Light::Directional {
+            direction: to_vec3(toward),
+            color: Rgb::ONE,
+            intensity: 3.0,
+            shadows: true,
+        },
+    ]
+}
+
+/// Applies command-line overrides of the image size and sample count. With
+/// only one of width and height given, the other follows the scene's aspect
+/// ratio.
+///
+/// # Errors
+/// [`Error::Arg`] for a value out of range (sides 1..=16384, at most 2^26
+/// pixels, spp 1..=65536).
+pub fn apply_overrides(
+    settings: &mut Settings,
+    width: Option<u32>,
+    height: Option<u32>,
+    spp: Option<u32>,
+) -> Result<()> {
+    if let Some(w) = width {
+        schema::check_side(w).map_err(|m| Error::arg("--width", m))?;
+    }
+    if let Some(h) = height {
+        schema::check_side(h).map_err(|m| Error::arg("--height", m))?;
+    }
+    let aspect = f64::from(settings.width.max(1)) / f64::from(settings.height.max(1));
+    let (w, h) = match (width, height) {
+        (Some(w), Some(h)) => (w, h),
+        (Some(w), None) => (
+            w,
+            ((f64::from(w) / aspect).round() as u32).clamp(1, schema::MAX_SIDE),
+        ),
+        (None, Some(h)) => (
+            ((f64::from(h) * aspect).round() as u32).clamp(1, schema::MAX_SIDE),
+            h,
+        ),
+        (None, None) => (settings.width, settings.height),
+    };
+    schema::check_pixels(w, h).map_err(|m| Error::arg("--width/--height", m))?;
+    settings.width = w;
+    settings.height = h;
+    if let Some(s) = spp {
+        settings.spp = schema::check_spp(s).map_err(|m| Error::arg("--spp", m))?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn framing_sees_the_whole_box() {
+        let b = Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0));
+        let cam = frame(b, 45.0, 4.0 / 3.0);
+        let d = to_dvec3(cam.eye - cam.look_at).length();
+        assert!(d > 3.0_f64.sqrt() / (22.5_f64.to_radians().sin()), "{d}");
+    }
+
+    #[test]
+    fn overrides_keep_the_aspect_ratio_and_check_ranges() {
+        let mut s = Settings {
+            width: 640,
+            height: 480,
+            ..Settings::default()
+        };
+        apply_overrides(&mut s, Some(64), None, Some(4)).unwrap();
+        assert_eq!((s.width, s.height, s.spp), (64, 48, 4));
+        assert!(apply_overrides(&mut s, Some(0), None, None).is_err());
+        assert!(apply_overrides(&mut s, None, None, Some(0)).is_err());
+        let e = apply_overrides(&mut s, Some(16384), Some(16384), None).unwrap_err();
+        assert!(e.to_string().contains("too large"), "{e}");
+    }
+}
