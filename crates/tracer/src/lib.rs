@@ -70,6 +70,7 @@
 mod camera;
 mod error;
 mod float;
+pub mod hard_meshes;
 mod integrator;
 pub mod optics;
 mod plan;

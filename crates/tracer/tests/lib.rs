@@ -9,6 +9,7 @@ mod determinism;
 mod dielectric;
 mod errors;
 mod lambert;
+mod leaks;
 mod mirror;
 mod plan;
 mod precision;
