@@ -11,6 +11,7 @@ mod errors;
 mod lambert;
 mod leaks;
 mod mirror;
+mod offsets;
 mod plan;
 mod precision;
 mod progress;

@@ -204,15 +204,21 @@ impl Primitive for Triangle {
 }
 
 impl Surface for Triangle {
-    /// The point from the barycentrics, with pbrt-v4's error bound
-    /// γ(7)·Σ|bᵢ·pᵢ| (§6.8.4).
+    /// The point from the barycentrics as `p0 + u·(p1 − p0) + v·(p2 − p0)`,
+    /// with a bound on its distance from the triangle's plane: a few ulps
+    /// of the two edge terms (small near `p0`, and scaled with the
+    /// triangle, not with its distance from the world origin) plus two
+    /// ulps of the point's coordinates for the final additions. Far from
+    /// the origin this is about a third of pbrt-v4's γ(7)·Σ|bᵢ·pᵢ|, so
+    /// secondary rays start within the rounding of the geometry.
     #[inline]
     fn surface(&self, _ray: &Ray, _t: Real, u: Real, v: Real) -> SurfacePoint {
-        let w = 1.0 - u - v;
         let [p0, p1, p2] = self.vertices();
-        let (q0, q1, q2) = (p0 * w, p1 * u, p2 * v);
-        let p = q0 + q1 + q2;
-        let p_err = (q0.abs() + q1.abs() + q2.abs()) * gamma(7);
+        let a = (p1 - p0) * u;
+        let b = (p2 - p0) * v;
+        let s = p0 + a;
+        let p = s + b;
+        let p_err = (a.abs() + b.abs()) * gamma(3) + (p0.abs() + s.abs() + p.abs()) * gamma(1);
         SurfacePoint {
             p,
             p_err,
