@@ -9,6 +9,7 @@ mod bad_inputs;
 mod cli;
 mod docs;
 mod fixture_scenes;
+mod full_precision;
 mod models;
 mod shared;
 
