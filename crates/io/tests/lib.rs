@@ -10,6 +10,7 @@ mod cli;
 mod docs;
 mod farm;
 mod fixture_scenes;
+mod full_precision;
 mod models;
 mod passes;
 mod shared;

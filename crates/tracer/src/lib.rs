@@ -72,6 +72,7 @@ mod camera;
 mod error;
 mod float;
 mod framebuffer;
+pub mod hard_meshes;
 mod integrator;
 pub mod optics;
 mod plan;

@@ -141,6 +141,7 @@ fn display_name(path: &Path) -> String {
 }
 
 /// One tobj model as a tracer mesh.
+#[allow(clippy::unnecessary_cast)] // tobj's numbers are f64 with the `f64` feature
 fn convert_mesh(
     path: &Path,
     file_name: &str,
@@ -184,7 +185,7 @@ fn convert_mesh(
     let uvs = if tm.texcoords.len() == 2 * n {
         tm.texcoords
             .chunks_exact(2)
-            .map(|c| glam::Vec2::new(c[0], c[1]))
+            .map(|c| glam::Vec2::new(c[0] as f32, c[1] as f32))
             .collect()
     } else {
         Vec::new()
@@ -455,9 +456,10 @@ fn max3(c: [f32; 3]) -> f32 {
 ///   mirror reflects `Ks`, the diffuse part is `Kd`;
 /// - `Ks` non-zero → Phong with exponent `Ns`;
 /// - otherwise Matte with colour `Kd`.
+#[allow(clippy::unnecessary_cast)] // tobj's numbers are f64 with the `f64` feature
 pub(crate) fn mtl_material(m: &tobj::Material) -> Material {
-    let clean = |c: Option<[f32; 3]>, default: [f32; 3]| {
-        let c = c.unwrap_or(default);
+    let clean = |c: Option<[_; 3]>, default: [f32; 3]| {
+        let c = c.map_or(default, |c| c.map(|x| x as f32));
         c.map(|x| if x.is_finite() { x.max(0.0) } else { 0.0 })
     };
     let kd = clean(m.diffuse, [0.8; 3]);
@@ -465,10 +467,15 @@ pub(crate) fn mtl_material(m: &tobj::Material) -> Material {
     let ke = clean(m.emissive, [0.0; 3]);
     let ns = m
         .shininess
+        .map(|x| x as f32)
         .filter(|x| x.is_finite())
         .unwrap_or(10.0)
         .clamp(1.0, 10_000.0);
-    let d = m.dissolve.filter(|x| x.is_finite()).unwrap_or(1.0);
+    let d = m
+        .dissolve
+        .map(|x| x as f32)
+        .filter(|x| x.is_finite())
+        .unwrap_or(1.0);
     let illum = m.illumination_model.unwrap_or(2);
     let color = Rgb::from_array(kd);
     let max_ke = max3(ke);
@@ -481,6 +488,7 @@ pub(crate) fn mtl_material(m: &tobj::Material) -> Material {
     if d < 1.0 || matches!(illum, 4 | 6 | 7) {
         let ior = m
             .optical_density
+            .map(|x| x as f32)
             .filter(|x| x.is_finite() && *x > 1.0)
             .unwrap_or(1.5);
         let tint = m

@@ -34,19 +34,43 @@ impl Plane {
         if denom == 0.0 || denom.is_nan() {
             return None;
         }
-        let t = (self.point - ray.origin).dot(self.normal) / denom;
+        let num = (self.point - ray.origin).dot(self.normal);
+        let t = num / denom;
+        // A quotient that underflows to ±0 keeps the sign of the true `t`:
+        // an origin a denormal step above the plane (an offset from a point
+        // at 0) leaving it is behind the plane, not on it.
+        if t == 0.0 && num != 0.0 && (num < 0.0) != (denom < 0.0) && t_min >= 0.0 {
+            return None;
+        }
         (t >= t_min && t <= t_max).then_some(t)
     }
 
-    /// The hit point with a bound on its distance from the plane: the
-    /// rounding of `t` moves the point along the ray by at most a few ULPs
-    /// of `|o|` and `|q|` in the normal's direction.
+    /// The hit point with a bound on its distance from the plane.
+    ///
+    /// The point along the ray is moved onto the plane along the normal's
+    /// largest axis `k`: its coordinate `k` is solved from the other two
+    /// with the plane's equation. The bound is then the rounding of that
+    /// one solve, a few ulps of the point's distance from `point` in the
+    /// plane plus half an ulp of the coordinate itself, instead of ulps of
+    /// the ray origin and of the point along every axis. Far from the world
+    /// origin this keeps secondary rays' origins within the rounding of
+    /// the geometry, so they do not start above a small object lying on
+    /// the plane (light leaking under it). For an axis-aligned plane the
+    /// coordinate is `point`'s own, exactly.
     #[inline]
     pub(crate) fn surface(&self, ray: &Ray, t: Real) -> SurfacePoint {
-        let p = ray.at(t);
+        let mut p = ray.at(t);
+        let n = self.normal;
+        let k = n.abs().max_position();
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        let a = (p[i] - self.point[i]) * n[i];
+        let b = (p[j] - self.point[j]) * n[j];
+        p[k] = self.point[k] - (a + b) / n[k];
+        let mut p_err = Vec3::ZERO;
+        p_err[k] = (a.abs() + b.abs()) / n[k].abs() * gamma(5) + p[k].abs() * gamma(1);
         SurfacePoint {
             p,
-            p_err: (ray.origin.abs() + self.point.abs() + p.abs()) * gamma(8),
+            p_err,
             n: self.normal,
         }
     }
@@ -55,6 +79,7 @@ impl Plane {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::float::to_f64;
 
     #[test]
     fn hits_front_and_back_and_not_parallel() {
@@ -73,5 +98,31 @@ mod tests {
             None
         );
         assert_eq!(pl.intersect(&down, 0.0, 0.5), None);
+    }
+
+    #[test]
+    fn far_hit_point_error_stays_within_the_geometry_rounding() {
+        // A floor 10⁵ from the origin seen from 10⁵ away: the point's
+        // error bound along the normal is about one ulp of its coordinate,
+        // not ulps of every coordinate of the origin and the point.
+        let far = Vec3::splat(1e5);
+        let floor = Plane::new(far, Vec3::Y);
+        let r = Ray::new(far + Vec3::new(0.0, 3.0, 8.0), Vec3::new(0.1, -1.0, -0.7));
+        let t = floor.intersect(&r, 0.0, Real::INFINITY).unwrap();
+        let sp = floor.surface(&r, t);
+        assert_eq!(sp.p.y, far.y);
+        let ulp = far.y * Real::EPSILON;
+        assert!(sp.n.abs().dot(sp.p_err) <= ulp, "{:?}", sp.p_err);
+        // A slanted plane: the point is within its bound of the plane.
+        let slant = Plane::new(far, Vec3::new(0.3, 1.0, -0.2));
+        let t = slant.intersect(&r, 0.0, Real::INFINITY).unwrap();
+        let sp = slant.surface(&r, t);
+        let f = |v: Vec3| glam::DVec3::new(to_f64(v.x), to_f64(v.y), to_f64(v.z));
+        let dist = (f(sp.p) - f(far)).dot(f(slant.normal));
+        assert!(
+            dist.abs() <= f(slant.normal).abs().dot(f(sp.p_err)),
+            "{dist}"
+        );
+        assert!(sp.p_err.max_element() < 8.0 * ulp, "{:?}", sp.p_err);
     }
 }

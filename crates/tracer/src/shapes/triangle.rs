@@ -22,9 +22,12 @@ use gridrt_grid::{closest_hits_prefiltered, PrimHit, Primitive};
 /// and the three edge functions in one vector product.
 ///
 /// A hit reports barycentrics `u`, `v`: the weights of `p1` and `p2` (the
-/// hit point is `(1 − u − v)·p0 + u·p1 + v·p2`). Hits within the rounding
-/// error of the ray origin (t ≤ δt, pbrt-v4's conservative bound) are
-/// rejected, so a ray leaving the triangle does not hit it again.
+/// hit point is `(1 − u − v)·p0 + u·p1 + v·p2`). A hit needs `t > 0` and
+/// `t` in the caller's range, nothing more: no epsilon and no error bound
+/// on `t`, so the answer does not depend on the scene's scale or the
+/// direction's length (scaling a mesh and its rays by a power of two
+/// scales nothing but the reported `t`). A ray that starts on a surface
+/// leaves it because its origin is offset by the hit point's error bound.
 ///
 /// ```
 /// use gridrt_tracer::Triangle;
@@ -87,8 +90,8 @@ impl Triangle {
         Lanes::from_slice(&self.c[3 * k..3 * k + 4])
     }
 
-    /// The watertight test: `(t, u, v)` of a hit with `t` in
-    /// `[t_min, t_max]` and `t > δt`.
+    /// The watertight test: `(t, u, v)` of a hit with `t > 0` in
+    /// `[t_min, t_max]`.
     #[inline]
     #[must_use]
     pub fn intersect(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
@@ -130,27 +133,20 @@ impl Triangle {
             // Seen edge-on, or a zero direction.
             return None;
         }
-        let [ax, bx, cx, _] = x.to_array();
-        let [ay, by, cy, _] = y.to_array();
         let [az, bz, cz, _] = (z * sz).to_array();
         let inv_det = 1.0 / det;
         let t = (e0 * az + e1 * bz + e2 * cz) * inv_det;
-        if !(t >= t_min && t <= t_max) {
-            return None;
-        }
-        // pbrt-v4's bound on the error of t (§6.8.4): a hit closer than it
-        // cannot be told apart from the origin.
-        let max_zt = az.abs().max(bz.abs()).max(cz.abs());
-        let max_xt = ax.abs().max(bx.abs()).max(cx.abs());
-        let max_yt = ay.abs().max(by.abs()).max(cy.abs());
-        let delta_z = gamma(3) * max_zt;
-        let delta_x = gamma(5) * (max_xt + max_zt);
-        let delta_y = gamma(5) * (max_yt + max_zt);
-        let delta_e = 2.0 * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
-        let max_e = e0.abs().max(e1.abs()).max(e2.abs());
-        let delta_t =
-            3.0 * (gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * inv_det.abs();
-        if t <= delta_t {
+        // Only `t > 0` and the caller's range: no rejection by an error bound
+        // on `t`. Such a bound (pbrt-v4 §6.8.4) grows with the triangle's
+        // extent over its projected area and, written with world-unit x, y
+        // beside t-unit z, with the inverse of the direction's length; it
+        // rejected true hits on slivers, on short directions and in small
+        // scenes, and those rays then fell through closed meshes. When every
+        // vertex lies ahead of the origin (all z > 0) the sum above has
+        // terms of one sign and `t > 0` (unless the products underflow), so no hit in front of the
+        // origin is lost; a surface the ray starts on is left by offsetting
+        // the origin (`offset_ray_origin`), not by an epsilon here.
+        if !(t > 0.0 && t >= t_min && t <= t_max) {
             return None;
         }
         // A zero-area triangle can pass the sign test through rounding of
@@ -208,15 +204,21 @@ impl Primitive for Triangle {
 }
 
 impl Surface for Triangle {
-    /// The point from the barycentrics, with pbrt-v4's error bound
-    /// γ(7)·Σ|bᵢ·pᵢ| (§6.8.4).
+    /// The point from the barycentrics as `p0 + u·(p1 − p0) + v·(p2 − p0)`,
+    /// with a bound on its distance from the triangle's plane: a few ulps
+    /// of the two edge terms (small near `p0`, and scaled with the
+    /// triangle, not with its distance from the world origin) plus two
+    /// ulps of the point's coordinates for the final additions. Far from
+    /// the origin this is about a third of pbrt-v4's γ(7)·Σ|bᵢ·pᵢ|, so
+    /// secondary rays start within the rounding of the geometry.
     #[inline]
     fn surface(&self, _ray: &Ray, _t: Real, u: Real, v: Real) -> SurfacePoint {
-        let w = 1.0 - u - v;
         let [p0, p1, p2] = self.vertices();
-        let (q0, q1, q2) = (p0 * w, p1 * u, p2 * v);
-        let p = q0 + q1 + q2;
-        let p_err = (q0.abs() + q1.abs() + q2.abs()) * gamma(7);
+        let a = (p1 - p0) * u;
+        let b = (p2 - p0) * v;
+        let s = p0 + a;
+        let p = s + b;
+        let p_err = (a.abs() + b.abs()) * gamma(3) + (p0.abs() + s.abs() + p.abs()) * gamma(1);
         SurfacePoint {
             p,
             p_err,

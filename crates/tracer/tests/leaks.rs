@@ -1,0 +1,115 @@
+//! No ray leaks out of a closed mesh, at any scale, offset and direction
+//! length the precision resolves, and the grid agrees with the exhaustive
+//! baseline on every probe ray.
+
+use gridrt_grid::{Accelerator, Exhaustive, Grid, GridConfig, Hit, PrimHit, Ray, Real, Vec3};
+use gridrt_tracer::hard_meshes::{self, DirLength};
+use gridrt_tracer::Triangle;
+
+const SCALES: [f64; 3] = [1e-6, 1.0, 1e6];
+const OFFSETS: [f64; 3] = [0.0, 1e3, 1e5];
+
+/// Whether a mesh of about unit size scaled by `scale` and moved by
+/// `offset` keeps its shape: its extent spans at least 2¹² ulps of the
+/// offset. Below that vertices merge, and the inside point may end up on
+/// or outside the surface.
+fn resolved(scale: f64, offset: f64) -> bool {
+    scale >= offset * f64::from(Real::EPSILON) * 4096.0
+}
+
+fn closest<A: Accelerator>(a: &A, r: &Ray, s: &mut A::Scratch) -> Option<Hit> {
+    a.closest_hit(r, 0.0, Real::INFINITY, s)
+}
+
+#[test]
+fn closed_meshes_never_leak_and_grid_equals_exhaustive() {
+    let mut report = Vec::new();
+    let mut total = 0usize;
+    for mesh in hard_meshes::standard_set() {
+        for scale in SCALES {
+            for offset in OFFSETS {
+                if !resolved(scale, offset) {
+                    continue;
+                }
+                let tris = mesh.triangles(scale, offset);
+                let ex = Exhaustive::new(tris.clone());
+                let grid = Grid::build(tris, &GridConfig::default());
+                let (mut se, mut sg) = (ex.scratch(), grid.scratch());
+                for len in [DirLength::Unit, DirLength::Short, DirLength::ToTarget] {
+                    let rays = mesh.probe_rays(scale, offset, len);
+                    assert!(rays.len() > 100, "{}: {} rays", mesh.name, rays.len());
+                    let (mut leaks, mut mismatches) = (0, 0);
+                    for r in &rays {
+                        let e = closest(&ex, r, &mut se);
+                        leaks += usize::from(e.is_none());
+                        mismatches += usize::from(closest(&grid, r, &mut sg) != e);
+                    }
+                    total += rays.len();
+                    if leaks + mismatches > 0 {
+                        report.push(format!(
+                            "{} scale {scale:e} offset {offset:e} {len:?}: {leaks} leaks, \
+                             {mismatches} grid/exhaustive mismatches of {}",
+                            mesh.name,
+                            rays.len()
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    assert!(total > 50_000, "{total} rays");
+    assert!(report.is_empty(), "{}", report.join("\n"));
+}
+
+/// The issue's first minimal case: a unit triangle seen from the origin
+/// along a direction of length about 10⁻⁶.
+#[test]
+fn issue_25_short_direction_hits() {
+    let tri = Triangle::new(Vec3::X, Vec3::Y, Vec3::Z);
+    for len in [1e-6, 1e-5, 1.0, 1e6] {
+        let r = Ray::new(Vec3::ZERO, Vec3::splat(len));
+        let h = tri.intersect(&r, 0.0, Real::INFINITY);
+        assert!(h.is_some(), "direction length {len}");
+        let h = h.unwrap();
+        assert!((h.t * len * 3.0 - 1.0).abs() < 1e-5, "{h:?} at {len}");
+    }
+}
+
+/// The issue's second minimal case: the unit case scaled by exactly 2⁻²⁰
+/// must give the same answer.
+#[test]
+fn issue_25_power_of_two_scaled_case_is_unchanged() {
+    let unit = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
+    let r = Ray::new(Vec3::new(0.25, 0.25, 1.0), -Vec3::Z);
+    let h = unit.intersect(&r, 0.0, Real::INFINITY).unwrap();
+    assert_eq!((h.t, h.u, h.v), (1.0, 0.25, 0.25));
+    let s = (2.0 as Real).powi(-20); // 9.5367431640625e-7
+    let small = Triangle::new(Vec3::ZERO, Vec3::X * s, Vec3::Y * s);
+    let r = Ray::new(Vec3::new(0.25, 0.25, 1.0) * s, -Vec3::Z * s);
+    assert_eq!(small.intersect(&r, 0.0, Real::INFINITY), Some(h));
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 512, ..Default::default() })]
+
+    /// Scaling a triangle, a ray's origin and its direction by powers of two
+    /// (each its own) changes nothing but `t`, by the ratio of the two.
+    #[test]
+    fn answers_are_invariant_under_power_of_two_scaling(
+        p in proptest::array::uniform9(-4.0f32..4.0),
+        o in proptest::array::uniform3(-4.0f32..4.0),
+        d in proptest::array::uniform3(-1.0f32..1.0),
+        k in -20i32..20,
+        j in -20i32..20,
+    ) {
+        let v = |i: usize| Vec3::new(Real::from(p[3 * i]), Real::from(p[3 * i + 1]), Real::from(p[3 * i + 2]));
+        let o = Vec3::new(Real::from(o[0]), Real::from(o[1]), Real::from(o[2]));
+        let d = Vec3::new(Real::from(d[0]), Real::from(d[1]), Real::from(d[2]));
+        let (sk, sj) = ((2.0 as Real).powi(k), (2.0 as Real).powi(j));
+        let a = Triangle::new(v(0), v(1), v(2)).intersect(&Ray::new(o, d), 0.0, Real::INFINITY);
+        let b = Triangle::new(v(0) * sk, v(1) * sk, v(2) * sk)
+            .intersect(&Ray::new(o * sk, d * sj), 0.0, Real::INFINITY);
+        let scaled = a.map(|h| PrimHit { t: h.t * (sk / sj), ..h });
+        proptest::prop_assert_eq!(b, scaled);
+    }
+}
