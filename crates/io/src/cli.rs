@@ -1,8 +1,10 @@
 //! The `gridrt` command line: argument definitions (clap) and the commands.
 //! `src/main.rs` only parses, calls [`run`] and turns an error into one line.
 
-use crate::cli_outputs::{pass_paths, render_part, stage_rendered, Rendered};
-pub use crate::cli_outputs::{AovArgs, AovList, DiffArgs, MergeArgs, PartArgs};
+use crate::cli_outputs::{
+    pass_paths, render_part, render_watched, save_interrupted, stage_rendered, Rendered,
+};
+pub use crate::cli_outputs::{AovArgs, AovList, DiffArgs, MergeArgs, PartArgs, PartialArgs};
 use crate::error::{escape_control, Error, Result};
 use crate::image_out::{check_image_path, check_output_dir, stage, write_atomic};
 use crate::model::load_model_in;
@@ -89,6 +91,9 @@ pub struct RenderArgs {
     /// Render passes.
     #[command(flatten)]
     pub aov: AovArgs,
+    /// Partial images.
+    #[command(flatten)]
+    pub partial: PartialArgs,
     /// Accelerator options.
     #[command(flatten)]
     pub accel: AccelArgs,
@@ -422,22 +427,34 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     })?;
 
     let bar = progress_bar();
+    let live = gridrt_tracer::LiveImage::new();
+    let started = Instant::now();
     let progress = |done: u64, total: u64| {
         if let Some(b) = &bar {
             b.set_length(total);
             b.set_position(done);
+            let secs = started.elapsed().as_secs_f64().max(1e-3);
+            b.set_message(format!("{:.2} Mrays/s", live.rays() as f64 / secs / 1e6));
         }
     };
     let result = match a.part.spec() {
-        None => renderer
-            .render(&progress, cancel)
+        None => render_watched(&renderer, &a.output, a.partial, &progress, cancel, &live)
             .map(|(img, s)| (Rendered::Full(img), s)),
         Some(spec) => render_part(&renderer, spec, &progress, cancel)?,
     };
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
-    let (rendered, stats) = result.map_err(|_| Error::Cancelled)?;
+    let (rendered, stats) = match result {
+        Ok(r) => r,
+        Err(_) if a.partial.save_on_interrupt && a.part.spec().is_none() => {
+            WRITING.store(true, Ordering::SeqCst);
+            let e = save_interrupted(&a.output, &live);
+            WRITING.store(false, Ordering::SeqCst);
+            return Err(e);
+        }
+        Err(_) => return Err(Error::Cancelled),
+    };
     // A Ctrl-C after the last tile still means "stop, write nothing".
     check_cancel(cancel)?;
     // Both outputs are written to temporary files first; they are renamed
@@ -523,7 +540,7 @@ fn progress_bar() -> Option<indicatif::ProgressBar> {
     }
     let bar = indicatif::ProgressBar::new(0);
     if let Ok(style) = indicatif::ProgressStyle::with_template(
-        "rendering [{bar:40.cyan/blue}] {percent:>3}%  {elapsed_precise} (eta {eta})",
+        "rendering [{bar:40.cyan/blue}] {percent:>3}%  {elapsed_precise} (eta {eta})  {msg}",
     ) {
         bar.set_style(style.progress_chars("=> "));
     }

@@ -6,10 +6,10 @@ use crate::diff::{diff_files, kind_name, write_diff_image, ImageValues};
 use crate::error::{Error, Result};
 use crate::parts::{merge_parts, PartSpec};
 use clap::Args;
-use gridrt_tracer::{Aov, Cancelled, Framebuffer, PixelRect, RenderStats, Renderer};
+use gridrt_tracer::{Aov, Cancelled, Framebuffer, LiveImage, PixelRect, RenderStats, Renderer};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Options of `gridrt merge`.
 #[derive(Debug, Clone, Args)]
@@ -142,6 +142,113 @@ pub(crate) fn pass_paths(output: &Path, aovs: Option<&AovList>) -> Vec<PathBuf> 
             .collect(),
         _ => Vec::new(),
     }
+}
+
+/// `--write-partial` and `--save-on-interrupt` of `gridrt render`.
+#[derive(Debug, Clone, Copy, Args)]
+pub struct PartialArgs {
+    /// Write the image so far every SECONDS while rendering (atomically;
+    /// tiles not yet rendered are black), for watching a long render.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    pub write_partial: Option<f64>,
+    /// On Ctrl-C, write the image so far (instead of nothing) and list the
+    /// missing tiles in OUT.missing, one X0,Y0,X1,Y1 per line, ready for
+    /// `--crop`.
+    #[arg(long)]
+    pub save_on_interrupt: bool,
+}
+
+fn parse_seconds(s: &str) -> std::result::Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() && x >= 0.1 => Ok(x),
+        _ => Err(format!(
+            "`{}` is not a number of seconds ≥ 0.1",
+            s.escape_debug()
+        )),
+    }
+}
+
+/// Renders the whole frame, writing partial images every
+/// `partial.write_partial` seconds while it runs (on a thread of its own).
+pub(crate) fn render_watched(
+    renderer: &Renderer,
+    output: &Path,
+    partial: PartialArgs,
+    progress: &(dyn Fn(u64, u64) + Sync),
+    cancel: &AtomicBool,
+    live: &LiveImage,
+) -> std::result::Result<(Framebuffer, RenderStats), Cancelled> {
+    let Some(every) = partial.write_partial else {
+        return renderer.render_live(progress, cancel, live);
+    };
+    let finished = AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        scope.spawn(|| {
+            let every = std::time::Duration::from_secs_f64(every);
+            let mut last = std::time::Instant::now();
+            let mut warned = false;
+            while !finished.load(Ordering::SeqCst) {
+                std::thread::sleep(std::time::Duration::from_millis(50));
+                if last.elapsed() < every || finished.load(Ordering::SeqCst) {
+                    continue;
+                }
+                last = std::time::Instant::now();
+                if let Some(img) = live.snapshot() {
+                    if let Err(e) = crate::write_framebuffer(output, &img) {
+                        if !warned {
+                            eprintln!("warning: partial image not written: {e}");
+                            warned = true;
+                        }
+                    }
+                }
+            }
+        });
+        let out = renderer.render_live(progress, cancel, live);
+        finished.store(true, Ordering::SeqCst);
+        out
+    })
+}
+
+/// After a Ctrl-C with `--save-on-interrupt`: writes the image so far to
+/// `output` and the missing tiles to `OUTPUT.missing`, and returns the
+/// error that says so.
+pub(crate) fn save_interrupted(output: &Path, live: &LiveImage) -> Error {
+    let Some(img) = live.snapshot() else {
+        return Error::Cancelled;
+    };
+    let missing = live.missing();
+    let list_path = missing_list_path(output);
+    let list: String = missing
+        .iter()
+        .map(|r| format!("{},{},{},{}\n", r.x0, r.y0, r.x1, r.y1))
+        .collect();
+    let written = crate::stage_image(output, img.width, img.height, &img.pixels).and_then(|i| {
+        let l = crate::stage(&list_path, |f| f.write_all(list.as_bytes()))?;
+        i.commit()?;
+        l.commit()
+    });
+    match written {
+        Ok(()) => Error::Interrupted {
+            note: format!(
+                "wrote the image so far to {} ({} of {} tiles done; the missing ones, \
+                 for --crop, are listed in {})",
+                output.display(),
+                live.tile_count() - missing.len(),
+                live.tile_count(),
+                list_path.display()
+            ),
+        },
+        Err(e) => Error::Interrupted {
+            note: format!("the image so far could not be saved: {e}"),
+        },
+    }
+}
+
+/// `out.png` → `out.png.missing`.
+fn missing_list_path(output: &Path) -> PathBuf {
+    let mut name = output.as_os_str().to_owned();
+    name.push(".missing");
+    PathBuf::from(name)
 }
 
 impl PartArgs {

@@ -233,6 +233,15 @@ pub enum Error {
     /// with 130, as a shell does for a command stopped by Ctrl-C.
     #[error("interrupted; nothing written")]
     Cancelled,
+
+    /// The render was cancelled (Ctrl-C) with `--save-on-interrupt`: the
+    /// image so far was written and the missing tiles listed beside it. The
+    /// binary prints the message without `error: ` and exits with 130.
+    #[error("interrupted; {note}")]
+    Interrupted {
+        /// What was saved where, and what is missing.
+        note: String,
+    },
 }
 
 /// `Result` with [`Error`].

@@ -30,7 +30,7 @@ fn main() -> ExitCode {
     }
     match try_main() {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e @ gridrt_io::Error::Cancelled) => {
+        Err(e @ (gridrt_io::Error::Cancelled | gridrt_io::Error::Interrupted { .. })) => {
             eprintln!("{e}");
             ExitCode::from(EXIT_INTERRUPTED)
         }

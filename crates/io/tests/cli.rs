@@ -333,22 +333,7 @@ fn ctrl_c_cancels_a_render_and_writes_nothing() {
         .spawn()
         .unwrap();
     let pid = child.id().to_string();
-    let start = Instant::now();
-    let handler_installed = || {
-        let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
-        status
-            .lines()
-            .find_map(|l| l.strip_prefix("SigCgt:"))
-            .and_then(|m| u64::from_str_radix(m.trim(), 16).ok())
-            .is_some_and(|mask| mask & (1 << (2 - 1)) != 0) // SIGINT = 2
-    };
-    while !handler_installed() {
-        if start.elapsed() > Duration::from_secs(3) {
-            let _ = child.kill();
-            panic!("gridrt installed no SIGINT handler within 3 s");
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
+    wait_for_sigint_handler(&mut child);
     // Let the render itself start (loading the built-in scene is instant).
     std::thread::sleep(Duration::from_millis(200));
     let kill = Command::new("kill").args(["-INT", &pid]).status().unwrap();
@@ -377,6 +362,30 @@ fn ctrl_c_cancels_a_render_and_writes_nothing() {
         .map(|e| e.unwrap().file_name())
         .collect();
     assert_eq!(left, ["out.png"], "no stats file, no temporary file");
+}
+
+/// Waits until `child` has installed its SIGINT handler (the SIGINT bit of
+/// `SigCgt` in `/proc/PID/status`), so a signal never races the start-up.
+#[cfg(target_os = "linux")]
+pub fn wait_for_sigint_handler(child: &mut std::process::Child) {
+    use std::time::{Duration, Instant};
+    let pid = child.id();
+    let start = Instant::now();
+    let handler_installed = || {
+        let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
+        status
+            .lines()
+            .find_map(|l| l.strip_prefix("SigCgt:"))
+            .and_then(|m| u64::from_str_radix(m.trim(), 16).ok())
+            .is_some_and(|mask| mask & (1 << (2 - 1)) != 0) // SIGINT = 2
+    };
+    while !handler_installed() {
+        if start.elapsed() > Duration::from_secs(3) {
+            let _ = child.kill();
+            panic!("gridrt installed no SIGINT handler within 3 s");
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
 }
 
 /// In-process and on every platform: a render whose cancel flag is already

@@ -268,3 +268,71 @@ fn farm_scripts_render_tiles_in_parallel_processes() {
     ok(&o);
     assert_eq!(std::fs::read(&merged).unwrap(), png);
 }
+
+/// `--write-partial` writes the image while it renders; with
+/// `--save-on-interrupt` a Ctrl-C writes what is done and lists the
+/// missing tiles, which `--crop` can then render.
+#[cfg(target_os = "linux")]
+#[test]
+fn partial_images_and_a_saved_interrupted_render() {
+    use std::process::Stdio;
+    use std::time::{Duration, Instant};
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // Minutes of work on one thread, in tiles of a few milliseconds.
+    let mut child = Command::new(BIN)
+        .args([
+            "render", "--width", "512", "--height", "512", "--spp", "1024",
+        ])
+        .args(["--threads", "1", "-o", "out.png"])
+        .args(["--write-partial", "0.2", "--save-on-interrupt"])
+        .current_dir(d)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    crate::cli::wait_for_sigint_handler(&mut child);
+    let out = d.join("out.png");
+    let start = Instant::now();
+    while !out.is_file() {
+        assert!(
+            start.elapsed() < Duration::from_secs(20),
+            "no partial image within 20 s"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let partial = image::open(&out).unwrap().to_rgb8();
+    assert_eq!(partial.dimensions(), (512, 512));
+    let pid = child.id().to_string();
+    assert!(Command::new("kill")
+        .args(["-INT", &pid])
+        .status()
+        .unwrap()
+        .success());
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_eq!(o.status.code(), Some(130), "{err}");
+    assert!(
+        err.starts_with("interrupted; wrote the image so far to out.png"),
+        "{err}"
+    );
+    let saved = image::open(&out).unwrap().to_rgb8();
+    assert_eq!(saved.dimensions(), (512, 512));
+    let list = std::fs::read_to_string(d.join("out.png.missing")).unwrap();
+    let rects: Vec<Vec<u32>> = list
+        .lines()
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert!(
+        !rects.is_empty() && rects.len() < 32 * 32,
+        "{} missing",
+        rects.len()
+    );
+    for r in &rects {
+        assert!(r.len() == 4 && r[0] < r[2] && r[1] < r[3] && r[2] <= 512 && r[3] <= 512);
+        // A missing tile is black in the saved image.
+        assert_eq!(saved.get_pixel(r[0], r[1]).0, [0, 0, 0]);
+    }
+    // Only the image and the list: no temporary file left.
+    assert_eq!(listing(d).len(), 2);
+}

@@ -75,3 +75,92 @@ impl Framebuffer {
         self.pixels.iter().filter(|p| !p.is_finite()).count()
     }
 }
+
+/// The image of a render in progress, filled in tile by tile, for writing
+/// partial images while it runs and for saving what was done when it is
+/// interrupted ([`crate::Renderer::render_live`]). Shared between the
+/// render's workers and any thread that takes snapshots.
+#[derive(Debug, Default)]
+pub struct LiveImage {
+    state: std::sync::Mutex<LiveState>,
+    rays: std::sync::atomic::AtomicU64,
+}
+
+#[derive(Debug, Default)]
+struct LiveState {
+    image: Option<Framebuffer>,
+    /// Every tile of the render, and whether it is done.
+    tiles: Vec<(PixelRect, bool)>,
+}
+
+impl LiveImage {
+    /// An empty live image, to hand to a render.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The state, also after a worker panicked while holding it (a tile's
+    /// pixels are copied in whole or not at all; a poisoned lock loses
+    /// nothing).
+    fn lock(&self) -> std::sync::MutexGuard<'_, LiveState> {
+        self.state
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
+    /// Starts a render of a `width × height` image cut into `tiles`.
+    pub(crate) fn start(&self, width: u32, height: u32, tiles: Vec<PixelRect>) {
+        let mut s = self.lock();
+        s.image = Some(Framebuffer::new(width, height));
+        s.tiles = tiles.into_iter().map(|t| (t, false)).collect();
+        self.rays.store(0, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    /// Copies a finished tile's pixels (row-major within the tile) in.
+    pub(crate) fn finish_tile(&self, index: usize, pixels: &[Rgb], rays: u64) {
+        self.rays
+            .fetch_add(rays, std::sync::atomic::Ordering::Relaxed);
+        let mut s = self.lock();
+        let LiveState { image, tiles } = &mut *s;
+        let (Some(image), Some((r, done))) = (image.as_mut(), tiles.get_mut(index)) else {
+            return;
+        };
+        let w = r.width() as usize;
+        for (row, y) in (r.y0..r.y1).enumerate() {
+            let start = y as usize * image.width as usize + r.x0 as usize;
+            image.pixels[start..start + w].copy_from_slice(&pixels[row * w..(row + 1) * w]);
+        }
+        *done = true;
+    }
+
+    /// Rays traced so far by the render (all kinds).
+    #[must_use]
+    pub fn rays(&self) -> u64 {
+        self.rays.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// A copy of the image so far (black where tiles are missing), or
+    /// `None` before the render has started.
+    #[must_use]
+    pub fn snapshot(&self) -> Option<Framebuffer> {
+        self.lock().image.clone()
+    }
+
+    /// The tiles not finished yet, in the render's coordinates.
+    #[must_use]
+    pub fn missing(&self) -> Vec<PixelRect> {
+        self.lock()
+            .tiles
+            .iter()
+            .filter(|(_, done)| !done)
+            .map(|(r, _)| *r)
+            .collect()
+    }
+
+    /// How many tiles the render has.
+    #[must_use]
+    pub fn tile_count(&self) -> usize {
+        self.lock().tiles.len()
+    }
+}

@@ -76,6 +76,7 @@ pub mod hard_meshes;
 mod integrator;
 pub mod optics;
 mod plan;
+mod pool;
 mod prepare;
 mod render;
 mod sampler;
@@ -87,7 +88,7 @@ pub mod suffern;
 
 pub use aov::{Aov, AovImage};
 pub use error::{Cancelled, SceneError};
-pub use framebuffer::{Framebuffer, PixelRect};
+pub use framebuffer::{Framebuffer, LiveImage, PixelRect};
 pub use gridrt_grid::Accelerator;
 pub use plan::{EffectPlan, IntegratorKind, RayCounts};
 pub use prepare::{SphereSet, MAX_PIXELS};

@@ -3,9 +3,10 @@
 
 use crate::camera::CameraModel;
 use crate::error::{Cancelled, SceneError};
-use crate::framebuffer::{Framebuffer, PixelRect};
+use crate::framebuffer::{Framebuffer, LiveImage, PixelRect};
 use crate::integrator::{Found, Integrator, Li, SceneData, Shading, ThreadState, Tracer, Whitted};
 use crate::plan::{EffectPlan, RayCounts};
+use crate::pool::Pool;
 use crate::prepare::{prepare, Prepared, Prims, SphereSet};
 use crate::sampler::{cmj, pixel_pattern};
 use crate::scene::{Rgb, Scene};
@@ -190,86 +191,6 @@ impl fmt::Debug for Renderer {
             .field("plan", &self.plan)
             .field("build_time", &self.build_time)
             .finish_non_exhaustive()
-    }
-}
-
-/// The worker threads of a renderer.
-pub(crate) struct Pool {
-    #[cfg(feature = "rayon")]
-    pool: Option<rayon::ThreadPool>,
-}
-
-impl fmt::Debug for Pool {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str("Pool")
-    }
-}
-
-impl Pool {
-    /// `None` threads = all cores; 1 thread = no pool (run on the caller).
-    fn new(threads: Option<usize>) -> Self {
-        #[cfg(feature = "rayon")]
-        {
-            let pool = match threads {
-                Some(1) => None,
-                n => rayon::ThreadPoolBuilder::new()
-                    .num_threads(n.unwrap_or(0))
-                    .thread_name(|i| format!("gridrt-{i}"))
-                    .build()
-                    .ok(),
-            };
-            Self { pool }
-        }
-        #[cfg(not(feature = "rayon"))]
-        {
-            let _ = threads;
-            Self {}
-        }
-    }
-
-    /// True when the renderer has worker threads. Without them (one thread
-    /// asked for, or none could be started, as in a container whose process
-    /// limit is reached) everything runs on the caller's thread and nothing
-    /// touches rayon's global pool, which would panic when it cannot start.
-    fn is_parallel(&self) -> bool {
-        #[cfg(feature = "rayon")]
-        {
-            self.pool.is_some()
-        }
-        #[cfg(not(feature = "rayon"))]
-        {
-            false
-        }
-    }
-
-    /// Runs `f` inside the pool (so rayon calls in it use the pool's threads).
-    fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
-        #[cfg(feature = "rayon")]
-        if let Some(p) = &self.pool {
-            return p.install(f);
-        }
-        f()
-    }
-
-    /// `f` over `items` with one `init()` state per worker (per rayon
-    /// split), in parallel when the pool has threads; results in item order.
-    pub(crate) fn map_init<T, S, R>(
-        &self,
-        items: &[T],
-        init: impl Fn() -> S + Sync + Send,
-        f: impl Fn(&mut S, &T) -> R + Sync + Send,
-    ) -> Vec<R>
-    where
-        T: Sync,
-        R: Send,
-    {
-        #[cfg(feature = "rayon")]
-        if let Some(p) = &self.pool {
-            use rayon::prelude::*;
-            return p.install(|| items.par_iter().map_init(&init, &f).collect());
-        }
-        let mut state = init();
-        items.iter().map(|t| f(&mut state, t)).collect()
     }
 }
 
@@ -509,12 +430,40 @@ impl Renderer {
         self.render_job(rows, (0, self.width), progress, cancel)
     }
 
+    /// [`Renderer::render`], filling `live` as tiles finish: another
+    /// thread can take snapshots of the image while it renders (partial
+    /// images), and after a cancellation `live` holds what was done and
+    /// which tiles are missing.
+    ///
+    /// # Errors
+    /// [`Cancelled`] when the flag was raised.
+    pub fn render_live(
+        &self,
+        progress: &(dyn Fn(u64, u64) + Sync),
+        cancel: &AtomicBool,
+        live: &LiveImage,
+    ) -> Result<(Framebuffer, RenderStats), Cancelled> {
+        let all: Vec<u32> = (0..self.height).collect();
+        self.render_job_live(&all, (0, self.width), progress, cancel, Some(live))
+    }
+
     fn render_job(
         &self,
         rows: &[u32],
         cols: (u32, u32),
         progress: &(dyn Fn(u64, u64) + Sync),
         cancel: &AtomicBool,
+    ) -> Result<(Framebuffer, RenderStats), Cancelled> {
+        self.render_job_live(rows, cols, progress, cancel, None)
+    }
+
+    fn render_job_live(
+        &self,
+        rows: &[u32],
+        cols: (u32, u32),
+        progress: &(dyn Fn(u64, u64) + Sync),
+        cancel: &AtomicBool,
+        live: Option<&LiveImage>,
     ) -> Result<(Framebuffer, RenderStats), Cancelled> {
         let start = Instant::now();
         let job = Job {
@@ -528,6 +477,7 @@ impl Renderer {
             cancel,
             done: AtomicU64::new(0),
             pool: &self.pool,
+            live,
         };
         let out = with_accel!(&self.accel, |a| job.run_plan(a, &self.data, &self.plan))?;
         Ok((
@@ -575,6 +525,7 @@ impl Renderer {
             cancel: &AtomicBool::new(false),
             done: AtomicU64::new(0),
             pool: &self.pool,
+            live: None,
         };
         let res = with_accel!(&self.accel, |a| job.run::<_, HitOnly, false>(a, &self.data));
         res.map_or(0, |o| o.pixels_hit)
@@ -676,6 +627,8 @@ struct Job<'a> {
     cancel: &'a AtomicBool,
     done: AtomicU64,
     pool: &'a Pool,
+    /// Filled as tiles finish, when the caller watches the render.
+    live: Option<&'a LiveImage>,
 }
 
 impl Job<'_> {
@@ -753,7 +706,22 @@ impl Job<'_> {
                 });
             }
         }
-        tiles
+        // Spread over the image in bit-reversed order (van der Corput), so
+        // that at any moment the tiles done sample the whole frame: the
+        // share of pixels done then tracks the share of the work done, and
+        // a progress estimate converges instead of running short while the
+        // cheap tiles go first. No pixel depends on the order.
+        let bits = usize::BITS - tiles.len().saturating_sub(1).leading_zeros();
+        let key = |i: usize| {
+            if bits == 0 {
+                0
+            } else {
+                i.reverse_bits() >> (usize::BITS - bits)
+            }
+        };
+        let mut order: Vec<usize> = (0..tiles.len()).collect();
+        order.sort_by_key(|&i| key(i));
+        order.into_iter().map(|i| tiles[i]).collect()
     }
 
     /// Renders every tile (in parallel when the pool has threads) and
@@ -773,11 +741,25 @@ impl Job<'_> {
         let tiles = self.tiles();
         let out_width = self.cols.1 - self.cols.0;
         let total = u64::from(out_width) * self.rows.len() as u64;
-        let one = |ts: &mut ThreadState<A::Scratch>, tile: &Tile| -> Option<TileOut> {
+        let height = u32::try_from(self.rows.len()).expect("rows fit an image");
+        let rect = |t: &Tile| PixelRect {
+            x0: t.x0 - self.cols.0,
+            y0: t.k0 as u32,
+            x1: t.x1 - self.cols.0,
+            y1: t.k1 as u32,
+        };
+        if let Some(live) = self.live {
+            live.start(out_width, height, tiles.iter().map(rect).collect());
+        }
+        let indexed: Vec<(usize, Tile)> = tiles.into_iter().enumerate().collect();
+        let one = |ts: &mut ThreadState<A::Scratch>, &(index, tile): &(usize, Tile)| {
             if self.cancel.load(Ordering::Relaxed) {
                 return None;
             }
-            let out = self.tile::<A, I, JITTER>(&tr, *tile, ts);
+            let out = self.tile::<A, I, JITTER>(&tr, tile, ts);
+            if let Some(live) = self.live {
+                live.finish_tile(index, &out.pixels, out.rays.total());
+            }
             let n = out.pixels.len() as u64;
             let done = self.done.fetch_add(n, Ordering::Relaxed) + n;
             (self.progress)(done, total);
@@ -787,11 +769,10 @@ impl Job<'_> {
             scratch: accel.scratch(),
             counts: RayCounts::default(),
         };
-        let outs = self.pool.map_init(&tiles, new_state, one);
+        let outs = self.pool.map_init(&indexed, new_state, one);
         if self.cancel.load(Ordering::Relaxed) || outs.iter().any(Option::is_none) {
             return Err(Cancelled);
         }
-        let height = u32::try_from(self.rows.len()).expect("rows fit an image");
         let mut image = Framebuffer::new(out_width, height);
         let mut rays = RayCounts::default();
         let mut pixels_hit = 0;

@@ -55,3 +55,56 @@ fn cancel_stops_the_render() {
     let _ = r.render(&|_, _| {}, &AtomicBool::new(true));
     assert!(r.render(&|_, _| {}, &AtomicBool::new(false)).is_ok());
 }
+
+#[test]
+fn live_image_follows_the_render_and_keeps_an_interrupted_one() {
+    use gridrt_tracer::LiveImage;
+    let scene = kitchen_sink(80, 48);
+    for threads in [Some(1), Some(2)] {
+        let r = Renderer::new(&scene, &opts(Default::default(), threads)).unwrap();
+        let never = AtomicBool::new(false);
+        let (full, stats) = r.render(&|_, _| {}, &never).unwrap();
+
+        // Watched to the end: the same image, every tile done, every ray
+        // counted.
+        let live = LiveImage::new();
+        assert!(live.snapshot().is_none());
+        let (img, _) = r.render_live(&|_, _| {}, &never, &live).unwrap();
+        assert_eq!(img, full);
+        assert_eq!(live.snapshot().unwrap(), full);
+        assert!(live.missing().is_empty());
+        assert_eq!(live.tile_count(), 5 * 3);
+        assert_eq!(live.rays(), stats.rays.total());
+
+        // Cancelled after four tiles: what was done is kept, pixel for
+        // pixel, and the missing tiles are exactly the black rest.
+        let cancel = AtomicBool::new(false);
+        let tiles = AtomicU64::new(0);
+        let live = LiveImage::new();
+        let out = r.render_live(
+            &|_, _| {
+                if tiles.fetch_add(1, Ordering::SeqCst) + 1 >= 4 {
+                    cancel.store(true, Ordering::SeqCst);
+                }
+            },
+            &cancel,
+            &live,
+        );
+        assert!(matches!(out, Err(Cancelled)));
+        let part = live.snapshot().unwrap();
+        let missing = live.missing();
+        assert!(!missing.is_empty() && missing.len() <= 15 - 4);
+        let in_missing = |x: u32, y: u32| {
+            missing
+                .iter()
+                .any(|m| (m.x0..m.x1).contains(&x) && (m.y0..m.y1).contains(&y))
+        };
+        for y in 0..48 {
+            for x in 0..80 {
+                if !in_missing(x, y) {
+                    assert_eq!(part.get(x, y), full.get(x, y), "pixel ({x}, {y})");
+                }
+            }
+        }
+    }
+}
