@@ -11,4 +11,5 @@ mod build;
 mod equivalence;
 mod hard_cases;
 mod nested;
+mod offset;
 mod traversal;
