@@ -97,7 +97,7 @@ pub struct GridConfig {
     /// nested grids from the flat grid it has built (the default): when
     /// [`Self::nest_min_refs`] is 0, cells with at least
     /// [`AUTO_MIN_REFS`] references and at least [`AUTO_MEAN_FACTOR`]
-    /// times the mean of the occupied cells get nested grids, recursively
+    /// times the references per cell (all cells) get nested grids, recursively
     /// (see the crate README for the rule and the measurements behind it).
     /// An explicit `nest_min_refs` wins; `auto: false` with
     /// `nest_min_refs: 0` is the flat grid.
@@ -117,7 +117,8 @@ pub struct GridConfig {
 /// least this many references…
 pub const AUTO_MIN_REFS: u32 = 48;
 
-/// …and at least this many times the mean of the occupied cells.
+/// …and at least this many times the references per cell (over all
+/// cells, empty ones included).
 pub const AUTO_MEAN_FACTOR: f64 = 6.0;
 
 /// The default memory budget, in units of the primitives' own size.

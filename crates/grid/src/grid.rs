@@ -290,14 +290,16 @@ impl<P: Primitive> Grid<P> {
 
     /// The `nest_min_refs` of this build: the configured one, or, with
     /// [`GridConfig::auto`] and none configured, [`crate::AUTO_MIN_REFS`]
-    /// and [`crate::AUTO_MEAN_FACTOR`] times the mean of the occupied
-    /// cells, if some cell reaches it (0: no nesting).
+    /// and at least [`crate::AUTO_MEAN_FACTOR`] times the references per
+    /// cell (over all cells, empty ones included, so that a cluster that
+    /// fills the few occupied cells still stands out), if some cell
+    /// reaches it (0: no nesting).
     fn nest_threshold(&self, occupied: u64, max_refs: u32) -> u32 {
         let c = &self.config;
         if c.nest_min_refs > 0 || !c.auto || occupied == 0 {
             return c.nest_min_refs;
         }
-        let mean = self.refs.len() as f64 / occupied as f64;
+        let mean = self.refs.len() as f64 / self.geom.cell_count().max(1) as f64;
         let t = (crate::AUTO_MEAN_FACTOR * mean)
             .ceil()
             .min(f64::from(u32::MAX)) as u32;
