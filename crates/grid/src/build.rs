@@ -68,7 +68,12 @@ fn gridded(b: &Aabb) -> Option<(Lanes, Lanes)> {
 
 /// Builds the cell structure for `prims`; with `renumber`, the references
 /// hold slots instead of primitive indices (see [`Built::ids`]).
-pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig, renumber: bool) -> Built {
+pub(crate) fn build<P: Primitive>(
+    prims: &[P],
+    config: &GridConfig,
+    renumber: bool,
+    budget: usize,
+) -> Built {
     let parallel = config.parallel_build;
     let n = prims.len();
     // Phase 1: the union of the finite boxes, and the primitives that cannot be gridded.
@@ -135,9 +140,23 @@ pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig, renumber: bo
     };
     // References are bounded too, so that huge primitives over a fine grid cannot
     // exhaust memory: past the limit the resolution is halved and the build retried.
+    // The memory budget caps both: a dense cell costs 4 bytes and a bit
+    // (and a bit per block), a reference 4 bytes (a hashed one up to 40
+    // with its occupied cell's slots), so cells and references each take
+    // at most about 45% of the budget, and never less than a single cell
+    // holding every primitive once.
+    let per_ref = if config.storage == CellStorage::Hashed {
+        90
+    } else {
+        9
+    };
     let ref_limit = (4 * max_cells)
         .max(64 * gridded as u64)
-        .min(u64::from(u32::MAX) / 2);
+        .min(u64::from(u32::MAX) / 2)
+        .min((budget / per_ref) as u64)
+        .max(gridded as u64);
+    let cells_cap = max_cells.min((budget / 9).max(1) as u64);
+    dims = geom::cap_cells(dims.map(u64::from), cells_cap);
     loop {
         let g = Geom::new(bounds, dims);
         match build_cells(prims, &g, config, ref_limit, renumber, unbounded.is_empty()) {

@@ -93,6 +93,53 @@ pub struct GridConfig {
     /// Values that are not finite and positive are treated as the
     /// lecture's 2.
     pub nest_m: Option<Real>,
+    /// Let the build choose between the flat grid and the hierarchy of
+    /// nested grids from the flat grid it has built (the default): when
+    /// [`Self::nest_min_refs`] is 0, cells with at least
+    /// [`AUTO_MIN_REFS`] references and at least [`AUTO_MEAN_FACTOR`]
+    /// times the references per cell (all cells) get nested grids, recursively
+    /// (see the crate README for the rule and the measurements behind it).
+    /// An explicit `nest_min_refs` wins; `auto: false` with
+    /// `nest_min_refs: 0` is the flat grid.
+    pub auto: bool,
+    /// The most bytes the grid's index may take ([`GridStats::bytes`]
+    /// without the copies of [`crate::Grid::build_with_copies`]): cells,
+    /// references, maps and nested grids. `None`: [`DEFAULT_BUDGET_FACTOR`]
+    /// times the primitives' own size (`n · size_of::<P>()`), and at least
+    /// [`MIN_BUDGET`]. The flat grid's cells and references are capped to
+    /// fit it, and the nested grids take only what is left: reaching the
+    /// budget stops subdividing, never fails. A budget below what one
+    /// reference per primitive needs (a single cell) is raised to that.
+    pub memory_budget: Option<usize>,
+}
+
+/// [`GridConfig::auto`]: a cell gets a nested grid only if it holds at
+/// least this many references…
+pub const AUTO_MIN_REFS: u32 = 48;
+
+/// …and at least this many times the references per cell (over all
+/// cells, empty ones included).
+pub const AUTO_MEAN_FACTOR: f64 = 6.0;
+
+/// The default memory budget, in units of the primitives' own size.
+pub const DEFAULT_BUDGET_FACTOR: usize = 8;
+
+/// The smallest default memory budget (4 MiB), so that small scenes are
+/// never starved.
+pub const MIN_BUDGET: usize = 4 << 20;
+
+impl GridConfig {
+    /// The memory budget for `n` primitives of `prim_size` bytes each
+    /// ([`GridConfig::memory_budget`]), before the floor of one reference
+    /// per primitive.
+    #[must_use]
+    pub fn budget_for(&self, n: usize, prim_size: usize) -> usize {
+        self.memory_budget.unwrap_or_else(|| {
+            n.saturating_mul(prim_size)
+                .saturating_mul(DEFAULT_BUDGET_FACTOR)
+                .max(MIN_BUDGET)
+        })
+    }
 }
 
 /// What a built grid looks like, for reports and tests.
@@ -116,8 +163,15 @@ pub struct GridStats {
     pub table_bytes: usize,
     /// Primitives kept outside the cells because their box is not finite.
     pub unbounded_prims: u64,
-    /// Cells with a nested grid ([`GridConfig::nest_min_refs`]).
+    /// Nested grids in all, over every level ([`GridConfig::nest_min_refs`]).
     pub nested_cells: u64,
+    /// The deepest level of nested grids (0: the flat grid alone).
+    pub nest_levels: u32,
+    /// The `nest_min_refs` the build used (chosen by [`GridConfig::auto`]
+    /// or given; 0: no nesting).
+    pub nest_min_refs: u32,
+    /// The memory budget the build kept to ([`GridConfig::memory_budget`]).
+    pub budget: usize,
     /// Wall-clock time of the build.
     pub build_time: Duration,
 }
@@ -134,6 +188,8 @@ impl Default for GridConfig {
             dims: None,
             nest_min_refs: 0,
             nest_m: None,
+            auto: true,
+            memory_budget: None,
         }
     }
 }

@@ -213,12 +213,25 @@ impl<'g> Dda<'g> {
             let moving = inv.is_finite() && inv != 0.0;
             // A non-moving axis keeps the origin's coordinate (never 0·∞).
             let p = if moving { o + ray.dir[a] * t0 } else { o };
-            let i = g.cell_of(a, p);
-            d.idx[a] = i;
+            let mut i = g.cell_of(a, p);
             if moving && g.dims[a] > 1 {
                 // The sign of the reciprocal, not `dir >= 0`: −0.0 never gets here,
                 // and a tiny negative component must walk down.
                 let down = inv < 0.0;
+                // The entry point carries the rounding of its coordinates
+                // (an ulp of where the scene lies): if the ray crosses the
+                // entry-side plane of the cell found after `t0`, in the
+                // walk's own arithmetic, it starts in the cell before.
+                let w = &g.walk[a];
+                if down {
+                    while i < g.dims[a] - 1 && (w[i as usize + 1] - o) * inv > t0 {
+                        i += 1;
+                    }
+                } else {
+                    while i > 0 && (w[i as usize] - o) * inv > t0 {
+                        i -= 1;
+                    }
+                }
                 d.neg[a] = down;
                 d.dir[a] = if down { -1 } else { 1 };
                 let k = i as usize + usize::from(!down);
@@ -226,6 +239,7 @@ impl<'g> Dda<'g> {
                 d.next[a] = g.walk[a][k..].as_ptr();
                 d.t_next[a] = (g.walk[a][k] - o) * inv;
             }
+            d.idx[a] = i;
         }
         Some(d)
     }

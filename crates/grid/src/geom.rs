@@ -5,13 +5,21 @@
 use crate::morton;
 use gridrt_bbox::{Aabb, Real, Vec3};
 
-/// How far (in units of `Real::EPSILON` times the largest coordinate
-/// magnitude of the grid box) every primitive box is widened before it is
-/// mapped to cells. It absorbs the rounding of hit points, of the traversal's
-/// plane crossings and of the index computation, so that a primitive whose
-/// hit lies on (or within rounding of) a cell plane is in the cells on both
-/// sides of it.
-pub(crate) const PAD_ULPS: Real = 512.0;
+/// The insertion pad, in units of `Real::EPSILON` times the largest extent
+/// of the (outermost) grid box. It absorbs the rounding that grows with the
+/// distance a ray travels (a primitive's hit `t`, the traversal's plane
+/// crossings), which does not depend on where the scene lies: it covers
+/// rays that start within some tens of scene diameters of the scene.
+///
+/// Nothing in the pad follows the coordinates' magnitude: the rounding of
+/// absolute positions is made exact instead: a box's cells are found by
+/// comparing its distance to the stored planes with the pad whenever the
+/// coordinates are large against the pad ([`Geom::cell_range`]), boxes
+/// handed to [`crate::Primitive::overlaps_box`] and the grid's entry box
+/// are widened with outward rounding ([`Geom::widen`]), and the walk's entry cell is made consistent
+/// with its own plane crossings ([`crate::dda`]), so a scene moved far from
+/// the origin keeps the references it has at the origin.
+pub(crate) const PAD_ULPS: Real = 64.0;
 
 /// Hard ceiling on the cell count whatever `GridConfig::max_cells` says:
 /// dense offsets and cell keys are `u32`.
@@ -31,6 +39,11 @@ pub(crate) struct Geom {
     pub inv_cell: [Real; 3],
     /// Absolute widening applied to primitive boxes (see [`PAD_ULPS`]).
     pub pad: Real,
+    /// Whether [`Geom::cell_range`] corrects its estimate against the
+    /// stored planes: when the grid's coordinates are so large against the
+    /// pad that the estimate's rounding (an ulp or two of the coordinates)
+    /// could exceed it.
+    exact_planes: bool,
     /// The grid box widened by the pad: what a ray must hit to enter.
     pub entry: Aabb,
     /// `inv_cell` as a vector.
@@ -52,6 +65,7 @@ impl Geom {
             planes: [Box::new([]), Box::new([]), Box::new([])],
             inv_cell: [0.0; 3],
             pad: 0.0,
+            exact_planes: false,
             entry: Aabb::EMPTY,
             inv: Vec3::ZERO,
             last: Vec3::ZERO,
@@ -63,20 +77,18 @@ impl Geom {
     pub(crate) fn new(bounds: Aabb, dims: [u32; 3]) -> Self {
         debug_assert!(!bounds.is_empty() && dims.iter().all(|&n| n >= 1));
         let ext = bounds.extent();
-        let mut magnitude: Real = 0.0;
         let mut planes: [Box<[Real]>; 3] = [Box::new([]), Box::new([]), Box::new([])];
         let mut inv_cell = [0.0; 3];
         for a in 0..3 {
             let n = dims[a] as usize;
             let (lo, hi, w) = (bounds.min[a], bounds.max[a], ext[a]);
-            magnitude = magnitude.max(lo.abs()).max(hi.abs()).max(w);
             let cell = w / n as Real;
             inv_cell[a] = if w > 0.0 { n as Real / w } else { 0.0 };
             let mut p: Vec<Real> = (0..=n).map(|i| (lo + i as Real * cell).min(hi)).collect();
             p[n] = hi;
             planes[a] = p.into_boxed_slice();
         }
-        let pad = PAD_ULPS * Real::EPSILON * magnitude;
+        let pad = PAD_ULPS * Real::EPSILON * ext.max_element();
         let walk = planes.clone().map(|p| {
             let mut w = p.into_vec();
             let n = w.len() - 1;
@@ -84,14 +96,14 @@ impl Geom {
             w[n] = Real::INFINITY;
             w.into_boxed_slice()
         });
-        let widen = Vec3::splat(pad);
-        Self {
+        let mut g = Self {
             bounds,
             dims,
             planes,
             inv_cell,
             pad,
-            entry: Aabb::new(bounds.min - widen, bounds.max + widen),
+            exact_planes: false,
+            entry: bounds,
             inv: Vec3::from_array(inv_cell),
             last: Vec3::new(
                 (dims[0] - 1) as Real,
@@ -99,17 +111,41 @@ impl Geom {
                 (dims[2] - 1) as Real,
             ),
             walk,
-        }
+        };
+        g.set_pad(pad);
+        g
     }
 
-    /// The same geometry with the insertion pad widened to at least `pad`
-    /// (a nested grid takes its outer grid's, which suits the magnitude of
-    /// the whole scene rather than of one cell).
+    /// The same geometry with the extent part of the insertion pad widened
+    /// to at least `pad`: a nested grid takes its outermost grid's, since
+    /// the rays that reach it travel as far as the whole scene allows.
     pub(crate) fn with_pad(mut self, pad: Real) -> Self {
-        self.pad = self.pad.max(pad);
-        let widen = Vec3::splat(self.pad);
-        self.entry = Aabb::new(self.bounds.min - widen, self.bounds.max + widen);
+        self.set_pad(self.pad.max(pad));
         self
+    }
+
+    /// Sets the pad, and with it the entry box and whether
+    /// [`Geom::cell_range`] must check the planes: its estimate is off by
+    /// at most about two ulps of the coordinates (the widened coordinate,
+    /// the plane) plus a few ulps of the extent, which the pad covers when
+    /// `8 ε |x|` is below it for every coordinate `x` of the grid box.
+    fn set_pad(&mut self, pad: Real) {
+        self.pad = pad;
+        let b = self.bounds;
+        let mag = b.min.abs().max(b.max.abs()).max_element();
+        self.exact_planes = !(8.0 * Real::EPSILON * mag < pad);
+        self.entry = self.widen(&b);
+    }
+
+    /// Box `b` widened by the pad, rounded outwards: the result holds every
+    /// point within `pad` of `b`, however large its coordinates.
+    #[inline(always)]
+    pub(crate) fn widen(&self, b: &Aabb) -> Aabb {
+        let p = Vec3::splat(self.pad);
+        Aabb::new(
+            (b.min - p).to_array().map(next_down).into(),
+            (b.max + p).to_array().map(next_up).into(),
+        )
     }
 
     /// True when the grid has no cells.
@@ -164,23 +200,55 @@ impl Geom {
     ///
     /// Computed from the cell size alone, without [`Geom::cell_of`]'s
     /// correction against the stored planes (the build's hottest line): the
-    /// two can disagree only for a coordinate within a few ulps of a plane,
-    /// and the pad, hundreds of ulps wide, already puts such a primitive in
-    /// the cells on both sides.
+    /// two can disagree only for a coordinate within an ulp or two of a
+    /// plane (and a few ulps of the grid's extent), which the pad's two
+    /// parts cover, so such a primitive is in the cells on both sides.
     #[inline(always)]
     pub(crate) fn cell_range(&self, b: &Aabb) -> ([u32; 3], [u32; 3]) {
         let last = self.last;
-        let lo = ((b.min - self.pad - self.bounds.min) * self.inv).clamp(Vec3::ZERO, last);
-        let hi = ((b.max + self.pad - self.bounds.min) * self.inv).clamp(Vec3::ZERO, last);
+        let (x0, x1) = (b.min - self.pad, b.max + self.pad);
+        let lo = ((x0 - self.bounds.min) * self.inv).clamp(Vec3::ZERO, last);
+        let hi = ((x1 - self.bounds.min) * self.inv).clamp(Vec3::ZERO, last);
         // SAFETY: clamped to `[0, dims − 1]` (NaN clamps to 0), so each value
         // is finite and fits an `i32` (at most 2^21 cells per axis); the
         // conversion truncates. (A signed conversion is one instruction,
         // an unsigned one several.)
         let int = |v: Real| unsafe { v.to_int_unchecked::<i32>() as u32 };
-        (
-            [int(lo.x), int(lo.y), int(lo.z)],
-            [int(hi.x), int(hi.y), int(hi.z)],
-        )
+        let mut lo = [int(lo.x), int(lo.y), int(lo.z)];
+        let mut hi = [int(hi.x), int(hi.y), int(hi.z)];
+        if self.exact_planes {
+            for a in 0..3 {
+                (lo[a], hi[a]) = self.exact_range(a, lo[a], hi[a], b.min[a], b.max[a]);
+            }
+        }
+        (lo, hi)
+    }
+
+    /// The cells along `axis` that the interval `[x0, x1]` widened by the
+    /// pad overlaps, found from the guesses `lo` and `hi` by comparing with
+    /// the stored planes: cell `i` is in when `x0 − planes[i + 1] <= pad`
+    /// and `planes[i] − x1 <= pad`. Each difference is rounded once, by a
+    /// relative `ε/2` at most, so comparing with the pad enlarged by `4ε`
+    /// can only let in a cell too many, never leave one out; and no
+    /// widened coordinate is rounded to an ulp of where the scene lies.
+    #[inline(never)]
+    fn exact_range(&self, axis: usize, mut lo: u32, mut hi: u32, x0: Real, x1: Real) -> (u32, u32) {
+        let p = &*self.planes[axis];
+        let last = self.dims[axis] - 1;
+        let pad = self.pad * (1.0 + 4.0 * Real::EPSILON);
+        while lo > 0 && x0 - p[lo as usize] <= pad {
+            lo -= 1;
+        }
+        while lo < last && !(x0 - p[lo as usize + 1] <= pad) {
+            lo += 1;
+        }
+        while hi < last && p[hi as usize + 1] - x1 <= pad {
+            hi += 1;
+        }
+        while hi > 0 && !(p[hi as usize] - x1 <= pad) {
+            hi -= 1;
+        }
+        (lo, hi.max(lo))
     }
 
     /// Calls `f` with the row-major index of every cell of the inclusive
@@ -201,9 +269,14 @@ impl Geom {
     /// must touch to be inserted into the cell under exact insertion.
     #[inline]
     pub(crate) fn padded_cell_box(&self, idx: [u32; 3]) -> Aabb {
-        let b = self.cell_box(idx);
-        let pad = Vec3::splat(self.pad);
-        Aabb::new(b.min - pad, b.max + pad)
+        self.widen(&self.cell_box(idx))
+    }
+
+    /// The `(i, j, k)` of the cell with row-major index `c`.
+    pub(crate) fn index_of(&self, c: usize) -> [u32; 3] {
+        let c = c as u32;
+        let [nx, ny, _] = self.dims;
+        [c % nx, (c / nx) % ny, c / (nx * ny)]
     }
 
     /// The unpadded box of cell `idx`.
@@ -215,6 +288,25 @@ impl Geom {
         }
         b
     }
+}
+
+/// The largest value below `x` (`x` itself for NaN and `−∞`).
+#[inline(always)]
+pub(crate) fn next_down(x: Real) -> Real {
+    -next_up(-x)
+}
+
+/// The smallest value above `x` (`x` itself for NaN and `+∞`).
+#[inline(always)]
+pub(crate) fn next_up(x: Real) -> Real {
+    if x.is_nan() || x == Real::INFINITY {
+        return x;
+    }
+    if x == 0.0 {
+        return Real::from_bits(1);
+    }
+    let b = x.to_bits();
+    Real::from_bits(if x > 0.0 { b + 1 } else { b - 1 })
 }
 
 /// `x` as an `f64` (a no-op with the `f64` feature).

@@ -3,19 +3,26 @@
 use crate::build::{self, Cells};
 use crate::counters::{Counters, NoCounters};
 use crate::dda::{BlockMap, CellFn, CellIter, CellLookup, CellVisit, Dda};
-use crate::geom::Geom;
-use crate::nested::{Nested, Sub};
-use crate::table::CellTable;
+use crate::geom::{self, Geom};
+use crate::nested::{NestParams, Nested};
 use crate::{morton, Accelerator, CellStorage, GridConfig, GridStats, Hit, Primitive};
 use gridrt_bbox::{Aabb, Ray, Real};
 use std::ops::ControlFlow;
 use std::time::Instant;
 
+mod check;
+mod lookup;
+mod query;
+
+use lookup::{DenseLookup, HashedLookup};
+
+use query::{prim_id, AnyHit, Closest};
+
 /// `closest_hit` stops after a cell only if the best hit lies before the
 /// cell's exit by more than this fraction of `|t_exit|` (a few ulps): a hit
 /// on, or within rounding of, the plane between two cells may be tied with a
 /// lower-index primitive in the next cell, which must be tested too.
-const EXIT_MARGIN: Real = 8.0 * Real::EPSILON;
+pub(crate) const EXIT_MARGIN: Real = 8.0 * Real::EPSILON;
 
 /// A regular (uniform) grid over primitives it owns (Suffern ch. 22).
 ///
@@ -115,102 +122,6 @@ pub(crate) fn dense_occupancy(offsets: &[u32]) -> Box<[u64]> {
     (0..cells.div_ceil(64)).map(word).collect()
 }
 
-struct DenseLookup<'a> {
-    occ: &'a [u64],
-    offsets: &'a [u32],
-    refs: &'a [u32],
-    nx: u64,
-    nxy: u64,
-}
-
-impl<'a> DenseLookup<'a> {
-    /// The lookup of a dense table over cells `dims`.
-    fn new(dims: [u32; 3], occ: &'a [u64], offsets: &'a [u32], refs: &'a [u32]) -> Self {
-        let [nx, ny, _] = dims.map(u64::from);
-        Self {
-            occ,
-            offsets,
-            refs,
-            nx,
-            nxy: nx * ny,
-        }
-    }
-}
-
-impl Sub {
-    /// The lookup of a nested grid's dense table.
-    fn lookup(&self) -> DenseLookup<'_> {
-        DenseLookup::new(self.geom.dims, &self.occ, &self.offsets, &self.refs)
-    }
-}
-
-impl<'a> CellLookup<'a> for DenseLookup<'a> {
-    #[inline(always)]
-    fn start(&self, idx: [u32; 3], neg: [bool; 3]) -> (u64, [u64; 3]) {
-        let key = u64::from(idx[0]) + self.nx * u64::from(idx[1]) + self.nxy * u64::from(idx[2]);
-        let s = [1, self.nx, self.nxy];
-        (
-            key,
-            std::array::from_fn(|a| if neg[a] { s[a].wrapping_neg() } else { s[a] }),
-        )
-    }
-    #[inline(always)]
-    fn step(st: &[u64; 3], key: u64, axis: usize) -> u64 {
-        key.wrapping_add(st[axis])
-    }
-    #[inline(always)]
-    fn occupied(&self, key: u64) -> bool {
-        bit(self.occ, key)
-    }
-    #[inline(always)]
-    fn refs(&self, key: u64) -> &'a [u32] {
-        let k = key as usize;
-        debug_assert!(k + 1 < self.offsets.len());
-        // SAFETY: the walk only produces keys of cells inside the grid, and
-        // `offsets` has one entry per cell plus one; the offsets are
-        // nondecreasing and end at `refs.len()` (checked by `check_invariants`).
-        unsafe {
-            let s = *self.offsets.get_unchecked(k) as usize;
-            let e = *self.offsets.get_unchecked(k + 1) as usize;
-            self.refs.get_unchecked(s..e)
-        }
-    }
-}
-
-struct HashedLookup<'a> {
-    occ: &'a [u64],
-    table: &'a CellTable,
-    refs: &'a [u32],
-    spread: [&'a [u64]; 3],
-}
-
-impl<'a> CellLookup<'a> for HashedLookup<'a> {
-    #[inline(always)]
-    fn start(&self, idx: [u32; 3], neg: [bool; 3]) -> (u64, [u64; 3]) {
-        let key = self.spread[0][idx[0] as usize]
-            | self.spread[1][idx[1] as usize]
-            | self.spread[2][idx[2] as usize];
-        (key, neg.map(u64::from))
-    }
-    #[inline(always)]
-    fn step(st: &[u64; 3], key: u64, axis: usize) -> u64 {
-        morton::step(key, axis, st[axis] != 0)
-    }
-    #[inline(always)]
-    fn occupied(&self, key: u64) -> bool {
-        bit(self.occ, key)
-    }
-    #[inline(always)]
-    fn refs(&self, key: u64) -> &'a [u32] {
-        let (s, len) = self.table.get(key);
-        let (s, e) = (s as usize, s as usize + len as usize);
-        debug_assert!(e <= self.refs.len());
-        // SAFETY: every run stored in the table lies within `refs`
-        // (checked by `check_invariants`); empty cells give (0, 0).
-        unsafe { self.refs.get_unchecked(s..e) }
-    }
-}
-
 /// A closure as a [`CellFn`] (for the public visitor).
 struct FnCell<F>(F);
 
@@ -219,226 +130,6 @@ impl<'a, B, F: FnMut(CellVisit, &'a [u32]) -> ControlFlow<B>> CellFn<'a> for FnC
     #[inline(always)]
     fn call(&mut self, visit: CellVisit, refs: &'a [u32]) -> ControlFlow<B> {
         (self.0)(visit, refs)
-    }
-}
-
-/// Where the run `cell` of the grid's references `all` starts among them.
-#[inline(always)]
-fn run_start(all: &[u32], cell: &[u32]) -> u32 {
-    ((cell.as_ptr() as usize - all.as_ptr() as usize) / std::mem::size_of::<u32>()) as u32
-}
-
-/// The primitive index of reference `r`: `r` itself, or its slot's entry
-/// in `ids` for a grid with copies.
-#[inline(always)]
-fn prim_id(ids: &[u32], r: u32) -> u32 {
-    ids.get(r as usize).map_or(r, |&p| p)
-}
-
-/// The closest-hit query's per-cell work.
-struct Closest<'q, P, C, const MB: bool> {
-    /// What the references index: the grid's copies or its primitives.
-    prims: &'q [P],
-    /// Empty, or the primitive index of each slot.
-    ids: &'q [u32],
-    /// The grid's references (a cell's nested grid is found by its run's start).
-    refs: &'q [u32],
-    nested: &'q Nested,
-    ray: &'q Ray,
-    t_min: Real,
-    /// `t_max`, then the best hit's t.
-    t_lim: Real,
-    best: Option<Hit>,
-    stamps: &'q mut [u32],
-    stamp: u32,
-    counters: &'q mut C,
-}
-
-impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
-    /// Tests one primitive, keeping its hit if it is better ([`Hit::is_better_than`]).
-    #[inline(always)]
-    fn test(&mut self, r: u32) {
-        debug_assert!((r as usize) < self.prims.len());
-        // SAFETY: every stored reference is a valid index into `prims`
-        // (checked by `check_invariants`).
-        let prim = unsafe { self.prims.get_unchecked(r as usize) };
-        let ids = self.ids;
-        self.test_prim(|| prim_id(ids, r), prim);
-    }
-
-    /// Tests primitive `p`, given as `prim` (the original or a copy).
-    #[inline(always)]
-    fn test_prim(&mut self, p: impl FnOnce() -> u32, prim: &P) {
-        self.counters.test();
-        if let Some(h) = prim.closest_hit(self.ray, self.t_min, self.t_lim) {
-            self.keep(Hit::new(h, p()));
-        }
-    }
-
-    /// Keeps `hit` if it is better ([`Hit::is_better_than`]); gives the
-    /// limit for the tests that follow.
-    #[inline(always)]
-    fn keep(&mut self, hit: Hit) -> Real {
-        if self.best.as_ref().map_or(true, |b| hit.is_better_than(b)) {
-            self.t_lim = hit.t;
-            self.best = Some(hit);
-        }
-        self.t_lim
-    }
-
-    /// Walks the nested grid of a crowded cell instead of testing the
-    /// cell's references one by one: the same query, one level down.
-    #[inline(never)]
-    fn walk_sub(&mut self, sub: &Sub) {
-        let Some(dda) = Dda::new(&sub.geom, self.ray, self.t_min, self.t_lim) else {
-            return;
-        };
-        let lookup = sub.lookup();
-        let none = Nested::default();
-        let mut q = Closest::<P, C, MB> {
-            prims: self.prims,
-            ids: self.ids,
-            refs: &sub.refs,
-            nested: &none,
-            ray: self.ray,
-            t_min: self.t_min,
-            t_lim: self.t_lim,
-            best: self.best,
-            stamps: &mut *self.stamps,
-            stamp: self.stamp,
-            counters: &mut *self.counters,
-        };
-        let _ = dda.walk(&lookup, &mut q);
-        (self.t_lim, self.best) = (q.t_lim, q.best);
-    }
-}
-
-impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for Closest<'_, P, C, MB> {
-    type Break = ();
-
-    #[inline(always)]
-    fn call(&mut self, visit: CellVisit, refs: &'a [u32]) -> ControlFlow<()> {
-        self.counters.cell();
-        if refs.is_empty() {
-            return ControlFlow::Continue(());
-        }
-        if let Some(sub) = self.nested.find(refs.len(), run_start(self.refs, refs)) {
-            self.walk_sub(sub);
-        } else {
-            self.test_refs(refs);
-        }
-        // Stop only when the best hit is certainly inside this cell: a hit on
-        // (or within rounding of) the exit plane may tie with a lower-index
-        // primitive of the next cell. A hit found here that lies in a later
-        // cell stays in `best` and is confirmed there. (Empty cells cannot
-        // change the answer, so the test is made after occupied ones only.)
-        let t_exit = visit.t_exit;
-        if self.best.is_some() && self.t_lim < t_exit - t_exit.abs() * EXIT_MARGIN {
-            return ControlFlow::Break(());
-        }
-        ControlFlow::Continue(())
-    }
-}
-
-impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
-    /// Tests the references of one cell.
-    #[inline(always)]
-    fn test_refs(&mut self, refs: &[u32]) {
-        if !MB {
-            self.counters.tests(refs.len());
-            let (prims, ids, ray, t_min, t_lim) =
-                (self.prims, self.ids, self.ray, self.t_min, self.t_lim);
-            P::closest_hits(prims, refs, ray, t_min, t_lim, &mut |r, h| {
-                self.keep(Hit::new(h, prim_id(ids, r)))
-            });
-            return;
-        }
-        // With the mailbox, one at a time: each reference's stamp decides.
-        for &p in refs {
-            debug_assert!((p as usize) < self.stamps.len());
-            // SAFETY: `GridScratch::begin` sized the stamps to the primitive count.
-            let s = unsafe { self.stamps.get_unchecked_mut(p as usize) };
-            if *s == self.stamp {
-                self.counters.mailbox_skip();
-                continue;
-            }
-            *s = self.stamp;
-            self.test(p);
-        }
-    }
-}
-
-/// The any-hit query's per-cell work.
-struct AnyHit<'q, P, C, const MB: bool> {
-    /// What the references index: the grid's copies or its primitives.
-    prims: &'q [P],
-    /// The grid's references (a cell's nested grid is found by its run's start).
-    refs: &'q [u32],
-    nested: &'q Nested,
-    ray: &'q Ray,
-    t_min: Real,
-    t_max: Real,
-    stamps: &'q mut [u32],
-    stamp: u32,
-    counters: &'q mut C,
-}
-
-impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for AnyHit<'_, P, C, MB> {
-    type Break = ();
-
-    #[inline(always)]
-    fn call(&mut self, _: CellVisit, refs: &'a [u32]) -> ControlFlow<()> {
-        self.counters.cell();
-        if refs.is_empty() {
-            return ControlFlow::Continue(());
-        }
-        if let Some(sub) = self.nested.find(refs.len(), run_start(self.refs, refs)) {
-            return self.walk_sub(sub);
-        }
-        for &p in refs {
-            if MB {
-                // SAFETY: `GridScratch::begin` sized the stamps to the primitive count.
-                let s = unsafe { self.stamps.get_unchecked_mut(p as usize) };
-                if *s == self.stamp {
-                    self.counters.mailbox_skip();
-                    continue;
-                }
-                *s = self.stamp;
-            }
-            self.counters.test();
-            // SAFETY: every stored reference is a valid index into `prims`.
-            let prim = unsafe { self.prims.get_unchecked(p as usize) };
-            if prim.any_hit(self.ray, self.t_min, self.t_max) {
-                return ControlFlow::Break(());
-            }
-        }
-        ControlFlow::Continue(())
-    }
-}
-
-impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
-    /// Walks the nested grid of a crowded cell: only the references in the
-    /// nested cells along the ray are tested. An occluder whose hit lies
-    /// outside this cell is found in the cell that holds the hit.
-    #[inline(never)]
-    fn walk_sub(&mut self, sub: &Sub) -> ControlFlow<()> {
-        let Some(dda) = Dda::new(&sub.geom, self.ray, self.t_min, self.t_max) else {
-            return ControlFlow::Continue(());
-        };
-        let lookup = sub.lookup();
-        let none = Nested::default();
-        let mut q = AnyHit::<P, C, MB> {
-            prims: self.prims,
-            refs: &sub.refs,
-            nested: &none,
-            ray: self.ray,
-            t_min: self.t_min,
-            t_max: self.t_max,
-            stamps: &mut *self.stamps,
-            stamp: self.stamp,
-            counters: &mut *self.counters,
-        };
-        dda.walk(&lookup, &mut q)
     }
 }
 
@@ -492,9 +183,12 @@ impl<P: Primitive> Grid<P> {
             "at most u32::MAX primitives"
         );
         let start = Instant::now();
-        let b = build::build(&prims, config, copy.is_some());
+        let n = prims.len();
+        let budget = config
+            .budget_for(n, std::mem::size_of::<P>())
+            .max(Self::min_budget(n));
+        let b = build::build(&prims, config, copy.is_some(), budget);
         let copies = copy.map_or_else(|| Box::new([]) as Box<[P]>, |f| f(&prims, &b.ids));
-        let build_time = start.elapsed();
         let mut grid = Self {
             prims,
             config: *config,
@@ -512,28 +206,25 @@ impl<P: Primitive> Grid<P> {
         };
         grid.blocks = grid.block_map();
         grid.occ = grid.occupancy_bits();
-        let crowded = grid.runs(config.nest_min_refs as usize);
-        let nested = Nested::build(grid.slots(), &grid.geom, grid.refs.len(), crowded, config);
+        let min_refs = grid.nest_threshold(b.occupied, b.max_refs);
+        let flat_bytes = grid.index_bytes();
+        let crowded = grid.runs(min_refs as usize);
+        let params = NestParams {
+            min_refs: min_refs as usize,
+            m: geom::sanitize_m(config.nest_m.unwrap_or(config.m)),
+            budget: budget.saturating_sub(flat_bytes),
+            parallel: config.parallel_build,
+            pad: grid.geom.pad,
+        };
+        let nested = Nested::build(grid.slots(), &grid.geom, &grid.refs, crowded, &params);
         grid.nested = nested;
+        let build_time = start.elapsed();
         let cells = grid.geom.cell_count();
         let table_bytes = match &grid.cells {
             Cells::Empty => 0,
             Cells::Dense { offsets } => std::mem::size_of_val(&**offsets),
             Cells::Hashed { table } => table.bytes(),
         };
-        let planes: usize = grid
-            .geom
-            .planes
-            .iter()
-            .map(|p| std::mem::size_of_val(&**p))
-            .sum();
-        let spread: usize = grid
-            .spread
-            .iter()
-            .map(|s| std::mem::size_of_val(&**s))
-            .sum::<usize>()
-            + grid.blocks.bytes()
-            + std::mem::size_of_val(&*grid.occ);
         grid.stats = GridStats {
             dims: grid.geom.dims,
             cells,
@@ -545,23 +236,81 @@ impl<P: Primitive> Grid<P> {
                 grid.refs.len() as f64 / b.occupied as f64
             },
             max_refs_per_cell: b.max_refs,
-            bytes: table_bytes
-                + std::mem::size_of_val(&*grid.refs)
-                + planes
-                + spread
-                + std::mem::size_of_val(&*grid.unbounded)
-                + std::mem::size_of_val(&*grid.copies)
-                + std::mem::size_of_val(&*grid.ids)
-                + grid.nested.bytes(),
+            bytes: grid.index_bytes() + std::mem::size_of_val(&*grid.copies),
             table_bytes,
             unbounded_prims: grid.unbounded.len() as u64,
             nested_cells: grid.nested.subs.len() as u64,
+            nest_levels: grid.nested.levels(),
+            nest_min_refs: if grid.nested.subs.is_empty() {
+                0
+            } else {
+                min_refs
+            },
+            budget,
             build_time,
         };
         grid
     }
 
     /// What the references index: the copies, or the primitives.
+    /// The smallest memory budget a grid over `n` primitives is given: one
+    /// cell holding each primitive once, its maps and some slack.
+    fn min_budget(n: usize) -> usize {
+        16 * n + 4096
+    }
+
+    /// Heap bytes of the grid's index: everything but the copies.
+    fn index_bytes(&self) -> usize {
+        let table_bytes = match &self.cells {
+            Cells::Empty => 0,
+            Cells::Dense { offsets } => std::mem::size_of_val(&**offsets),
+            Cells::Hashed { table } => table.bytes(),
+        };
+        let planes: usize = self
+            .geom
+            .planes
+            .iter()
+            .map(|p| 2 * std::mem::size_of_val(&**p))
+            .sum();
+        let spread: usize = self
+            .spread
+            .iter()
+            .map(|s| std::mem::size_of_val(&**s))
+            .sum::<usize>()
+            + self.blocks.bytes()
+            + std::mem::size_of_val(&*self.occ);
+        table_bytes
+            + std::mem::size_of_val(&*self.refs)
+            + planes
+            + spread
+            + std::mem::size_of_val(&*self.unbounded)
+            + std::mem::size_of_val(&*self.ids)
+            + self.nested.bytes()
+    }
+
+    /// The `nest_min_refs` of this build: the configured one, or, with
+    /// [`GridConfig::auto`] and none configured, [`crate::AUTO_MIN_REFS`]
+    /// and at least [`crate::AUTO_MEAN_FACTOR`] times the references per
+    /// cell (over all cells, empty ones included, so that a cluster that
+    /// fills the few occupied cells still stands out), if some cell
+    /// reaches it (0: no nesting).
+    fn nest_threshold(&self, occupied: u64, max_refs: u32) -> u32 {
+        let c = &self.config;
+        if c.nest_min_refs > 0 || !c.auto || occupied == 0 {
+            return c.nest_min_refs;
+        }
+        let mean = self.refs.len() as f64 / self.geom.cell_count().max(1) as f64;
+        let t = (crate::AUTO_MEAN_FACTOR * mean)
+            .ceil()
+            .min(f64::from(u32::MAX)) as u32;
+        let t = t.max(crate::AUTO_MIN_REFS);
+        if max_refs >= t {
+            t
+        } else {
+            0
+        }
+    }
+
     fn slots(&self) -> &[P] {
         if self.copies.is_empty() {
             &self.prims
@@ -650,62 +399,6 @@ impl<P: Primitive> Grid<P> {
                 BlockMap::new(dims, table.occupied().map(|s| morton::decode3(s.key)))
             }
         }
-    }
-
-    /// The nested grids: one for each cell of at least `nest_min_refs`
-    /// references and no other, each over what its references cover of the
-    /// cell and holding exactly the cell's references in every nested cell
-    /// their padded box overlaps.
-    fn check_nested(&self) -> Result<(), String> {
-        let crowded = self.runs(self.config.nest_min_refs as usize);
-        if crowded.len() != self.nested.subs.len() {
-            return Err(format!(
-                "{} nested grids for {} crowded cells",
-                self.nested.subs.len(),
-                crowded.len()
-            ));
-        }
-        for (idx, start, refs) in crowded {
-            let sub = self
-                .nested
-                .find(refs.len(), start)
-                .ok_or_else(|| format!("cell {idx:?}: no nested grid"))?;
-            let g = &sub.geom;
-            let prims = self.slots();
-            let boxes = refs.iter().map(|&p| prims[p as usize].bounds());
-            if g.bounds != crate::nested::cover(&self.geom, idx, boxes) || g.pad < self.geom.pad {
-                return Err(format!("cell {idx:?}: nested grid not over the cell"));
-            }
-            let cells = g.cell_count() as usize;
-            let o = &sub.offsets;
-            if o.len() != cells + 1
-                || o[0] != 0
-                || o[cells] as usize != sub.refs.len()
-                || o.windows(2).any(|w| w[0] > w[1])
-            {
-                return Err(format!("cell {idx:?}: nested offsets malformed"));
-            }
-            let mut want = Vec::new();
-            for &p in refs {
-                let range = g.cell_range(&prims[p as usize].bounds());
-                g.for_each_cell(range, |c| want.push((c, p)));
-            }
-            let mut got = Vec::new();
-            for c in 0..cells {
-                let run = &sub.refs[o[c] as usize..o[c + 1] as usize];
-                got.extend(run.iter().map(|&p| (c, p)));
-                let occupied = sub.occ[c >> 6] >> (c & 63) & 1 != 0;
-                if occupied == run.is_empty() {
-                    return Err(format!("cell {idx:?}: nested occupancy bit {c} wrong"));
-                }
-            }
-            want.sort_unstable();
-            got.sort_unstable();
-            if want != got {
-                return Err(format!("cell {idx:?}: nested references differ"));
-            }
-        }
-        Ok(())
     }
 
     /// The occupied cells with at least `min` references (none for 0): each
@@ -858,7 +551,8 @@ impl<P: Primitive> Grid<P> {
             prims: self.slots(),
             ids: &self.ids,
             refs: &self.refs,
-            nested: &self.nested,
+            children: &self.nested.root,
+            subs: &self.nested.subs,
             ray,
             t_min,
             t_lim: t_max,
@@ -911,7 +605,8 @@ impl<P: Primitive> Grid<P> {
         let mut q = AnyHit::<P, C, MB> {
             prims: self.slots(),
             refs: &self.refs,
-            nested: &self.nested,
+            children: &self.nested.root,
+            subs: &self.nested.subs,
             ray,
             t_min,
             t_max,
@@ -928,216 +623,6 @@ impl<P: Primitive> Grid<P> {
         } else {
             with_lookup!(self, l => dda.walk(&l, &mut q), ControlFlow::Continue(())).is_break()
         }
-    }
-
-    /// Checks the grid's internal consistency; `Err` names the first
-    /// violation. Meant for tests (it is slow: it re-derives every
-    /// primitive's cells).
-    ///
-    /// Checked: the geometry (planes nondecreasing from the box's min to its
-    /// max, cell count within the cap), the CSR layout (offsets or table
-    /// runs inside the reference array, no primitive twice in a
-    /// cell, keys in Morton order), that every gridded primitive is in
-    /// exactly the cells its padded box overlaps (or, with exact insertion,
-    /// in every such cell it reports touching and no other), that the
-    /// unbounded list holds exactly the primitives with non-finite boxes,
-    /// that a grid with copies has exactly one slot per gridded primitive
-    /// holding its copy, and that the stats match.
-    pub fn check_invariants(&self) -> Result<(), String> {
-        let g = &self.geom;
-        let n = self.prims.len();
-        if self.copies.len() != self.ids.len() {
-            return Err(format!(
-                "{} copies for {} slots",
-                self.copies.len(),
-                self.ids.len()
-            ));
-        }
-        if !self.copies.is_empty() {
-            // Every gridded primitive has exactly one slot holding its copy.
-            let mut seen = vec![false; n];
-            for (k, (c, &p)) in self.copies.iter().zip(self.ids.iter()).enumerate() {
-                let Some(prim) = self.prims.get(p as usize) else {
-                    return Err(format!("slot {k}: primitive {p} of {n}"));
-                };
-                if std::mem::replace(&mut seen[p as usize], true) {
-                    return Err(format!("primitive {p} has two slots"));
-                }
-                if prim.bounds() != c.bounds() {
-                    return Err(format!("slot {k} is not a copy of primitive {p}"));
-                }
-            }
-            if self.ids.len() + self.unbounded.len() != n {
-                return Err("not every gridded primitive has a slot".into());
-            }
-        }
-        if g.is_empty() {
-            if !self.refs.is_empty() || !matches!(self.cells, Cells::Empty) {
-                return Err("empty grid with cells or references".into());
-            }
-        } else {
-            for a in 0..3 {
-                let p = &g.planes[a];
-                if g.dims[a] == 0 || p.len() != g.dims[a] as usize + 1 {
-                    return Err(format!(
-                        "axis {a}: {} planes for {} cells",
-                        p.len(),
-                        g.dims[a]
-                    ));
-                }
-                if p[0] != g.bounds.min[a] || p[p.len() - 1] != g.bounds.max[a] {
-                    return Err(format!("axis {a}: planes do not span the grid box"));
-                }
-                if p.windows(2).any(|w| !(w[0] <= w[1])) {
-                    return Err(format!("axis {a}: planes not nondecreasing"));
-                }
-            }
-            if g.cell_count() > self.config.max_cells.max(1) {
-                return Err(format!(
-                    "{} cells exceed max_cells {}",
-                    g.cell_count(),
-                    self.config.max_cells
-                ));
-            }
-        }
-        let slots = self.slots().len();
-        if let Some(&p) = self.refs.iter().find(|&&p| p as usize >= slots) {
-            return Err(format!("reference {p} of {slots}"));
-        }
-        // Every cell's run, by key order.
-        let mut runs: Vec<(u64, [u32; 3], u32, u32)> = Vec::new();
-        match &self.cells {
-            Cells::Empty => {}
-            Cells::Dense { offsets } => {
-                if offsets.len() as u64 != g.cell_count() + 1 {
-                    return Err("dense offsets: wrong length".into());
-                }
-                if offsets[0] != 0 || offsets[offsets.len() - 1] as usize != self.refs.len() {
-                    return Err("dense offsets do not span the references".into());
-                }
-                let [nx, ny, _] = g.dims;
-                for c in 0..offsets.len() - 1 {
-                    let (s, e) = (offsets[c], offsets[c + 1]);
-                    if s > e {
-                        return Err(format!("dense offsets decrease at cell {c}"));
-                    }
-                    if e > s {
-                        let c32 = c as u32;
-                        let idx = [c32 % nx, (c32 / nx) % ny, c32 / (nx * ny)];
-                        runs.push((c as u64, idx, s, e - s));
-                    }
-                }
-            }
-            Cells::Hashed { table } => {
-                let mut slots: Vec<_> = table.occupied().copied().collect();
-                slots.sort_by_key(|s| s.start);
-                let mut next = 0u32;
-                let mut prev_key = None;
-                for s in &slots {
-                    if s.start != next || s.len == 0 {
-                        return Err(format!("hashed runs not contiguous at {}", s.start));
-                    }
-                    next = s.start + s.len;
-                    if prev_key.is_some_and(|k| k >= s.key) {
-                        return Err("references not in Morton order".into());
-                    }
-                    prev_key = Some(s.key);
-                    let idx = morton::decode3(s.key);
-                    if !self.in_grid(idx) {
-                        return Err(format!("cell key {} outside the grid", s.key));
-                    }
-                    if table.get(s.key) != (s.start, s.len) {
-                        return Err(format!("cell key {} not found by probing", s.key));
-                    }
-                    runs.push((s.key, idx, s.start, s.len));
-                }
-                if next as usize != self.refs.len() {
-                    return Err("hashed runs do not span the references".into());
-                }
-                if table.capacity() < 2 * slots.len() {
-                    return Err("hash table over half full".into());
-                }
-            }
-        }
-        // The block map and the occupancy bits say which cells hold references.
-        if !matches!(self.cells, Cells::Empty) {
-            let blocks = BlockMap::new(g.dims, runs.iter().map(|r| r.1));
-            if blocks.bits != self.blocks.bits {
-                return Err("block map disagrees with the occupied cells".into());
-            }
-            let bit = |key: u64| {
-                self.occ
-                    .get((key >> 6) as usize)
-                    .map_or(0, |w| w >> (key & 63) & 1)
-            };
-            let set: u64 = self.occ.iter().map(|w| u64::from(w.count_ones())).sum();
-            if set != runs.len() as u64 || runs.iter().any(|r| bit(r.0) == 0) {
-                return Err("occupancy bits disagree with the occupied cells".into());
-            }
-        }
-        self.check_nested()?;
-        // Expected (cell, primitive) pairs against the stored ones.
-        let mut stored: Vec<([u32; 3], u32)> = Vec::with_capacity(self.refs.len());
-        for &(_, idx, s, len) in &runs {
-            let r = &self.refs[s as usize..(s + len) as usize];
-            let mut sorted = r.to_vec();
-            sorted.sort_unstable();
-            if sorted.windows(2).any(|w| w[0] == w[1]) {
-                return Err(format!("cell {idx:?}: a primitive listed twice"));
-            }
-            stored.extend(r.iter().map(|&p| (idx, self.primitive_of(p))));
-        }
-        let mut expected = Vec::with_capacity(stored.len());
-        let mut unbounded = Vec::new();
-        for (p, prim) in self.prims.iter().enumerate() {
-            let b = prim.bounds();
-            if !build::is_gridded(&b) {
-                unbounded.push(p as u32);
-                continue;
-            }
-            if g.is_empty() {
-                return Err(format!("primitive {p} is finite but the grid is empty"));
-            }
-            if !g.bounds.contains(b.min) || !g.bounds.contains(b.max) {
-                return Err(format!("primitive {p} sticks out of the grid box"));
-            }
-            let (lo, hi) = g.cell_range(&b);
-            for k in lo[2]..=hi[2] {
-                for j in lo[1]..=hi[1] {
-                    for i in lo[0]..=hi[0] {
-                        let inside = !self.config.exact_insertion
-                            || lo == hi
-                            || prim.overlaps_box(&g.padded_cell_box([i, j, k]));
-                        if inside {
-                            expected.push(([i, j, k], p as u32));
-                        }
-                    }
-                }
-            }
-        }
-        if unbounded[..] != self.unbounded[..] {
-            return Err("unbounded list does not match the non-finite boxes".into());
-        }
-        stored.sort_unstable();
-        expected.sort_unstable();
-        if stored != expected {
-            let missing = expected.iter().find(|x| stored.binary_search(x).is_err());
-            let extra = stored.iter().find(|x| expected.binary_search(x).is_err());
-            return Err(format!(
-                "cell contents differ: missing {missing:?}, extra {extra:?}"
-            ));
-        }
-        let s = &self.stats;
-        if s.dims != g.dims
-            || s.references != self.refs.len() as u64
-            || s.occupied_cells != runs.len() as u64
-        {
-            return Err("stats do not match the grid".into());
-        }
-        if s.max_refs_per_cell != runs.iter().map(|r| r.3).max().unwrap_or(0) {
-            return Err("stats: wrong max references per cell".into());
-        }
-        Ok(())
     }
 }
 

@@ -113,7 +113,10 @@ mod radix;
 mod table;
 
 pub use accel::{closest_hits_prefiltered, Accelerator, Hit, PrimHit, Primitive};
-pub use config::{CellStorage, GridConfig, GridStats};
+pub use config::{
+    CellStorage, GridConfig, GridStats, AUTO_MEAN_FACTOR, AUTO_MIN_REFS, DEFAULT_BUDGET_FACTOR,
+    MIN_BUDGET,
+};
 pub use counters::{Counters, NoCounters, QueryCounters};
 pub use dda::{CellIter, CellVisit};
 pub use exhaustive::Exhaustive;

@@ -1,84 +1,127 @@
-//! Nested grids in crowded cells, the remedy for the "teapot in a stadium"
-//! (a small, detailed object in a large, mostly empty scene): the grid's
-//! resolution follows the whole scene, so the cells around the detailed
-//! object hold dozens of primitives each. A cell with at least
-//! [`GridConfig::nest_min_refs`] references gets a small dense grid of its
-//! own, built from those references by the lecture's formula over the part
-//! of the cell that they cover; `closest_hit` and `any_hit` walk it instead
-//! of testing the cell's references one by one. The cell keeps its
-//! references too, so every other use of the cell (the public walk, the
-//! self-checks) is unchanged.
+//! Nested grids in crowded cells, recursively: the remedy for the "teapot
+//! in a stadium" (a small, detailed object in a large, mostly empty scene),
+//! after Ize, Shirley & Parker (2007) and the two-level grids of Kalojanov,
+//! Billeter & Slusallek (2011). The grid's resolution follows the whole
+//! scene, so the cells around a detailed object hold hundreds or thousands
+//! of primitives. A cell with at least `min_refs` references gets a dense
+//! grid of its own, over the **tight** box of its references clipped to
+//! the cell, with a resolution from the cell's own reference count (the
+//! lecture's formula, about `m³` cells per reference); its crowded cells
+//! get grids of their own in turn.
 //!
-//! Correctness is the outer grid's argument one level down. The nested grid
-//! spans every point of the cell that lies in one of its references' boxes,
-//! so every hit inside the cell; it is widened by the outer grid's pad (not
-//! a smaller one of its own); every reference is in every nested cell its
-//! padded box overlaps; and the nested walk stops under the outer walk's
-//! rule. So it finds the nearest hit inside the cell, ties included.
+//! **Stopping rule.** A nested cell is subdivided again only if (1) it
+//! holds at least `min_refs` references, (2) at most [`PROGRESS`] of its
+//! parent cell's (a subdivision that did not separate them, as around the
+//! common vertex of a fan or in a stack of coincident triangles, is not
+//! repeated), (3) the depth is below [`MAX_DEPTH`], and (4) the memory
+//! budget still has room for it. A grid is not built at all when its cells
+//! would hold on average more than [`SEPARATION`] of the references (nothing
+//! separates them: walking it would cost more than testing them). Every
+//! rule only ever stops subdividing: a cell without a nested grid tests its
+//! references, so the answers never depend on where the recursion ended.
+//!
+//! **Build**, breadth first and deterministic: each level's candidates are
+//! planned in parallel (box, resolution, reference count per nested cell),
+//! granted in order against the budget (whatever the thread count, the same
+//! grids are built), then filled in parallel. All nested grids live in one
+//! arena; the children of one grid are contiguous in it and found from the
+//! start of the parent cell's run of references by one popcount.
+//!
+//! **Correctness** is the outer grid's argument one level down. A nested
+//! grid spans every point of its cell that lies in one of its references'
+//! padded boxes, so every hit inside the cell; its insertion pad has the
+//! outermost grid's extent part (the rays that reach it travel as far as
+//! the scene allows) and its own coordinate part; every reference is in
+//! every nested cell its padded box overlaps; and the nested walk stops
+//! under the outer walk's rule. So it finds the nearest hit inside the
+//! cell, ties included.
 
 use crate::geom::{self, Geom};
 use crate::grid::dense_occupancy;
 use crate::par::map_indices;
-use crate::{GridConfig, Primitive};
-use gridrt_bbox::Aabb;
+use crate::Primitive;
+use gridrt_bbox::{Aabb, Real};
 
 /// Most cells of one nested grid.
-const MAX_SUB_CELLS: u64 = 1 << 12;
+pub(crate) const MAX_SUB_CELLS: u64 = 1 << 16;
+
+/// Most levels of nested grids below the flat grid.
+pub(crate) const MAX_DEPTH: u32 = 4;
+
+/// A nested cell is subdivided again only if it holds at most this
+/// fraction of its parent cell's references.
+pub(crate) const PROGRESS: f64 = 0.5;
+
+/// A nested grid is built only if its occupied cells hold on average at
+/// most this fraction of the parent cell's references.
+pub(crate) const SEPARATION: f64 = 0.75;
+
+/// How the hierarchy is built.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct NestParams {
+    /// Cells with fewer references get no nested grid.
+    pub min_refs: usize,
+    /// The nested grids' multiplier (about `m³` cells per reference).
+    pub m: f64,
+    /// Bytes the nested grids may take in all.
+    pub budget: usize,
+    pub parallel: bool,
+    /// The outermost grid's extent part of the insertion pad.
+    pub pad: Real,
+}
 
 /// The nested grid of one crowded cell.
 #[derive(Clone, Debug)]
 pub(crate) struct Sub {
-    /// Where the cell's run starts in the outer grid's references: the key
+    /// Where the cell's run starts in its parent grid's references: the key
     /// the walk finds the nested grid by.
     pub start: u32,
     pub geom: Geom,
-    /// `offsets[c]..offsets[c + 1]` are sub-cell `c`'s references
+    /// `offsets[c]..offsets[c + 1]` are nested cell `c`'s references
     /// (row-major), indices of the outer grid's primitives.
     pub offsets: Box<[u32]>,
     pub refs: Box<[u32]>,
-    /// One bit per sub-cell: set when it holds references.
+    /// The cell's references that span most of it (a floor under a
+    /// detailed object, a wall): tested on entering the cell, and left
+    /// out of the nested grid, which then spans only the others.
+    pub direct: Box<[u32]>,
+    /// One bit per nested cell: set when it holds references.
     pub occ: Box<[u64]>,
+    /// The nested grids of this grid's own crowded cells.
+    pub children: Children,
+    /// 1 for a grid nested in the flat grid's cell, 2 one level down, …
+    pub depth: u32,
 }
 
-/// The nested grids of a grid, sorted by [`Sub::start`].
+/// Which cells of one grid (the flat grid or a nested one) have a nested
+/// grid, and where those are in the arena ([`Nested::subs`]).
 #[derive(Clone, Debug, Default)]
-pub(crate) struct Nested {
-    pub subs: Box<[Sub]>,
-    /// One bit per index of the outer grid's references, set where the run
-    /// of a cell with a nested grid starts; `subs` are in the order of
-    /// these bits.
+pub(crate) struct Children {
+    /// One bit per index of the grid's references, set where the run of a
+    /// cell with a nested grid starts.
     starts: Box<[u64]>,
-    /// `rank[w]`: the set bits of `starts[..w]`, so that a start's nested
-    /// grid is found by one popcount instead of a search.
+    /// `rank[w]`: the set bits of `starts[..w]`.
     rank: Box<[u32]>,
-    /// Cells with fewer references have no nested grid (0: none has).
-    pub min_refs: usize,
+    /// The arena index of the first child (the children are contiguous,
+    /// in the order of their starts).
+    base: u32,
+    /// Cells with fewer references have none (0 with no children: the
+    /// empty bitmap answers).
+    min_refs: usize,
 }
 
-impl Nested {
-    /// Nested grids for the crowded cells `(index, start, references)`.
-    /// `refs` is the length of the outer grid's reference array.
-    pub(crate) fn build<P: Primitive>(
-        prims: &[P],
-        outer: &Geom,
-        refs: usize,
-        crowded: Vec<([u32; 3], u32, &[u32])>,
-        config: &GridConfig,
-    ) -> Self {
-        if crowded.is_empty() {
+impl Children {
+    /// The map of children starting at `starts` (ascending) in a grid of
+    /// `refs` references, the first at arena index `base`.
+    fn new(refs: usize, starts: &[u32], base: usize, min_refs: usize) -> Self {
+        if starts.is_empty() {
             return Self::default();
         }
-        let m = geom::sanitize_m(config.nest_m.unwrap_or(config.m));
-        let mut subs = map_indices(crowded.len(), config.parallel_build, |i| {
-            let (idx, start, refs) = crowded[i];
-            Sub::build(prims, outer, idx, start, refs, m)
-        });
-        subs.sort_unstable_by_key(|s| s.start);
-        let mut starts = vec![0u64; refs.div_ceil(64)];
-        for s in &subs {
-            starts[s.start as usize >> 6] |= 1 << (s.start & 63);
+        let mut bits = vec![0u64; refs.div_ceil(64)];
+        for &s in starts {
+            bits[s as usize >> 6] |= 1 << (s & 63);
         }
-        let rank = starts
+        let rank = bits
             .iter()
             .scan(0u32, |n, w| {
                 let r = *n;
@@ -87,18 +130,18 @@ impl Nested {
             })
             .collect();
         Self {
-            starts: starts.into_boxed_slice(),
+            starts: bits.into_boxed_slice(),
             rank,
-            subs: subs.into_boxed_slice(),
-            min_refs: config.nest_min_refs as usize,
+            base: base as u32,
+            min_refs,
         }
     }
 
-    /// The nested grid of the cell whose run of `len` references starts at
-    /// index `start` of the outer grid's references, if it has one.
+    /// The arena index of the nested grid of the cell whose run of `len`
+    /// references starts at `start`, if it has one.
     #[inline(always)]
-    pub(crate) fn find(&self, len: usize, start: u32) -> Option<&Sub> {
-        if self.min_refs == 0 || len < self.min_refs {
+    pub(crate) fn find(&self, len: usize, start: u32) -> Option<usize> {
+        if len < self.min_refs {
             return None;
         }
         let w = start as usize >> 6;
@@ -108,14 +151,182 @@ impl Nested {
         if below >> (start & 63) == 0 {
             return None;
         }
-        self.subs
-            .get(self.rank[w] as usize + below.count_ones() as usize - 1)
+        Some(self.base as usize + self.rank[w] as usize + below.count_ones() as usize - 1)
     }
 
-    /// Heap bytes of all nested grids.
+    /// Heap bytes of a map over `refs` references.
+    fn bytes_for(refs: usize) -> usize {
+        refs.div_ceil(64) * (8 + 4)
+    }
+
+    /// Heap bytes.
+    fn bytes(&self) -> usize {
+        std::mem::size_of_val(&*self.starts) + std::mem::size_of_val(&*self.rank)
+    }
+}
+
+/// All nested grids of a grid.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Nested {
+    /// The flat grid's cells with a nested grid.
+    pub root: Children,
+    /// Every nested grid, level by level.
+    pub subs: Box<[Sub]>,
+}
+
+/// An inclusive range of cells per axis, as [`Geom::cell_range`] gives it.
+type CellRange = ([u32; 3], [u32; 3]);
+
+/// A crowded cell waiting for its nested grid.
+struct Candidate {
+    /// The arena index of the grid holding the cell (`None`: the flat grid).
+    parent: Option<usize>,
+    idx: [u32; 3],
+    start: u32,
+    len: u32,
+    depth: u32,
+}
+
+/// A nested grid planned but not filled: its geometry, its counted
+/// offsets and each reference's cell range.
+struct Plan {
+    geom: Geom,
+    offsets: Vec<u32>,
+    /// The references in the nested grid, each with its cell range.
+    ranges: Vec<(u32, CellRange)>,
+    direct: Vec<u32>,
+}
+
+impl Plan {
+    /// Heap bytes of the nested grid this plan fills (its map of children
+    /// counted as if it had some).
+    fn bytes(&self) -> usize {
+        let refs = *self.offsets.last().unwrap_or(&0) as usize;
+        std::mem::size_of::<Sub>()
+            + 4 * self.offsets.len()
+            + 4 * refs
+            + 4 * self.direct.len()
+            + 8 * (self.offsets.len() - 1).div_ceil(64)
+            + self
+                .geom
+                .planes
+                .iter()
+                .map(|p| 2 * std::mem::size_of_val(&**p))
+                .sum::<usize>()
+            + Children::bytes_for(refs)
+    }
+}
+
+impl Nested {
+    /// The nested grids of a grid with geometry `root` and references
+    /// `root_refs`, for its crowded cells `(index, start, references)`
+    /// (those with at least `p.min_refs` references, in any order).
+    pub(crate) fn build<P: Primitive>(
+        prims: &[P],
+        root: &Geom,
+        root_refs: &[u32],
+        crowded: Vec<([u32; 3], u32, &[u32])>,
+        p: &NestParams,
+    ) -> Self {
+        let mut used = Children::bytes_for(root_refs.len());
+        if crowded.is_empty() || p.min_refs == 0 || used > p.budget {
+            return Self::default();
+        }
+        let mut cands: Vec<Candidate> = crowded
+            .iter()
+            .map(|&(idx, start, refs)| Candidate {
+                parent: None,
+                idx,
+                start,
+                len: refs.len() as u32,
+                depth: 1,
+            })
+            .collect();
+        cands.sort_unstable_by_key(|c| c.start);
+        let mut subs: Vec<Sub> = Vec::new();
+        let mut root_children = Children::default();
+        while !cands.is_empty() {
+            let refs_of = |c: &Candidate| -> (&Geom, &[u32]) {
+                let (g, all) = match c.parent {
+                    None => (root, root_refs),
+                    Some(s) => (&subs[s].geom, &subs[s].refs[..]),
+                };
+                (g, &all[c.start as usize..][..c.len as usize])
+            };
+            let plans = map_indices(cands.len(), p.parallel, |i| {
+                let (g, refs) = refs_of(&cands[i]);
+                plan(prims, g, cands[i].idx, refs, p)
+            });
+            // Granted in order, so the same grids are built whatever the threads.
+            let mut granted: Vec<(usize, Plan)> = Vec::new();
+            for (i, plan) in plans.into_iter().enumerate() {
+                let Some(plan) = plan else { continue };
+                let bytes = plan.bytes();
+                if used + bytes <= p.budget {
+                    used += bytes;
+                    granted.push((i, plan));
+                }
+            }
+            let filled = map_indices(granted.len(), p.parallel, |k| {
+                let (i, plan) = &granted[k];
+                let c = &cands[*i];
+                fill(plan, c.start, c.depth)
+            });
+            // Each parent's children, contiguous from `base`.
+            let base = subs.len();
+            let mut k = 0;
+            while k < granted.len() {
+                let parent = cands[granted[k].0].parent;
+                let mut e = k;
+                while e < granted.len() && cands[granted[e].0].parent == parent {
+                    e += 1;
+                }
+                let starts: Vec<u32> = granted[k..e].iter().map(|g| cands[g.0].start).collect();
+                match parent {
+                    None => {
+                        root_children =
+                            Children::new(root_refs.len(), &starts, base + k, p.min_refs);
+                    }
+                    Some(s) => {
+                        subs[s].children =
+                            Children::new(subs[s].refs.len(), &starts, base + k, p.min_refs);
+                    }
+                }
+                k = e;
+            }
+            // The next level: the crowded cells of the new grids that the
+            // stopping rule lets through.
+            let mut next = Vec::new();
+            for (k, sub) in filled.iter().enumerate() {
+                let parent_len = cands[granted[k].0].len as f64;
+                if sub.depth >= MAX_DEPTH {
+                    continue;
+                }
+                for (c, w) in sub.offsets.windows(2).enumerate() {
+                    let len = (w[1] - w[0]) as usize;
+                    if len >= p.min_refs && len as f64 <= PROGRESS * parent_len {
+                        next.push(Candidate {
+                            parent: Some(base + k),
+                            idx: sub.geom.index_of(c),
+                            start: w[0],
+                            len: len as u32,
+                            depth: sub.depth + 1,
+                        });
+                    }
+                }
+            }
+            subs.extend(filled);
+            cands = next;
+        }
+        Self {
+            root: root_children,
+            subs: subs.into_boxed_slice(),
+        }
+    }
+
+    /// Heap bytes of all nested grids and their maps.
     pub(crate) fn bytes(&self) -> usize {
-        std::mem::size_of_val(&*self.starts)
-            + std::mem::size_of_val(&*self.rank)
+        self.root.bytes()
             + self
                 .subs
                 .iter()
@@ -123,7 +334,9 @@ impl Nested {
                     std::mem::size_of::<Sub>()
                         + std::mem::size_of_val(&*s.offsets)
                         + std::mem::size_of_val(&*s.refs)
+                        + std::mem::size_of_val(&*s.direct)
                         + std::mem::size_of_val(&*s.occ)
+                        + s.children.bytes()
                         + s.geom
                             .planes
                             .iter()
@@ -132,62 +345,181 @@ impl Nested {
                 })
                 .sum::<usize>()
     }
-}
 
-impl Sub {
-    /// The nested grid of outer cell `idx`, whose references `refs` start
-    /// at `start` in the outer grid's reference array.
-    fn build<P: Primitive>(
+    /// The deepest level (0 without nested grids).
+    pub(crate) fn levels(&self) -> u32 {
+        self.subs.iter().map(|s| s.depth).max().unwrap_or(0)
+    }
+
+    /// Checks every nested grid reachable from `children` of a grid with
+    /// geometry `g` and references `refs` (cells given as `(index, start,
+    /// references)`): each over what its references cover of the cell,
+    /// with the outermost pad, exactly the cell's references in every
+    /// nested cell their padded box overlaps, and its own children in
+    /// turn. Returns how many nested grids it reached.
+    pub(crate) fn check<P: Primitive>(
+        &self,
         prims: &[P],
-        outer: &Geom,
-        idx: [u32; 3],
-        start: u32,
-        refs: &[u32],
-        m: f64,
-    ) -> Self {
-        let boxes: Vec<Aabb> = refs.iter().map(|&p| prims[p as usize].bounds()).collect();
-        let cell = cover(outer, idx, boxes.iter().copied());
-        let e = cell.extent();
-        let ext = [geom::wide(e.x), geom::wide(e.y), geom::wide(e.z)];
-        let dims = geom::resolution(ext, refs.len(), m, MAX_SUB_CELLS);
-        let geom = Geom::new(cell, dims).with_pad(outer.pad);
-        let count = geom.cell_count() as usize;
-        let ranges: Vec<([u32; 3], [u32; 3])> = boxes.iter().map(|b| geom.cell_range(b)).collect();
-        let each = |f: &mut dyn FnMut(usize, u32)| {
-            for (&p, &range) in refs.iter().zip(&ranges) {
-                geom.for_each_cell(range, |c| f(c, p));
+        g: &Geom,
+        children: &Children,
+        cells: Vec<([u32; 3], u32, &[u32])>,
+        pad: Real,
+    ) -> Result<usize, String> {
+        let mut reached = 0;
+        for (idx, start, refs) in cells {
+            let Some(i) = children.find(refs.len(), start) else {
+                continue;
+            };
+            let sub = self
+                .subs
+                .get(i)
+                .ok_or_else(|| format!("cell {idx:?}: nested grid {i} missing"))?;
+            if sub.start != start {
+                return Err(format!("cell {idx:?}: nested grid {i} of another cell"));
             }
-        };
-        // Count, prefix-sum into starts, fill (references keep their order).
-        let mut offsets = vec![0u32; count + 1];
-        each(&mut |c, _| offsets[c + 1] += 1);
-        for c in 0..count {
-            offsets[c + 1] += offsets[c];
+            let sg = &sub.geom;
+            let (direct, inner) = split(prims, g, idx, refs);
+            if direct[..] != sub.direct[..] {
+                return Err(format!("cell {idx:?}: wrong references tested directly"));
+            }
+            let boxes = inner.iter().map(|&p| prims[p as usize].bounds());
+            if sg.bounds != cover(g, idx, boxes) || sg.pad < pad {
+                return Err(format!("cell {idx:?}: nested grid not over the cell"));
+            }
+            let count = sg.cell_count() as usize;
+            let o = &sub.offsets;
+            if o.len() != count + 1
+                || o[0] != 0
+                || o[count] as usize != sub.refs.len()
+                || o.windows(2).any(|w| w[0] > w[1])
+            {
+                return Err(format!("cell {idx:?}: nested offsets malformed"));
+            }
+            let mut want = Vec::new();
+            for &p in &inner {
+                let range = sg.cell_range(&prims[p as usize].bounds());
+                sg.for_each_cell(range, |c| want.push((c, p)));
+            }
+            let mut got = Vec::new();
+            let mut own = Vec::new();
+            for c in 0..count {
+                let run = &sub.refs[o[c] as usize..o[c + 1] as usize];
+                got.extend(run.iter().map(|&p| (c, p)));
+                let occupied = sub.occ[c >> 6] >> (c & 63) & 1 != 0;
+                if occupied == run.is_empty() {
+                    return Err(format!("cell {idx:?}: nested occupancy bit {c} wrong"));
+                }
+                if !run.is_empty() {
+                    own.push((sg.index_of(c), o[c], run));
+                }
+            }
+            want.sort_unstable();
+            got.sort_unstable();
+            if want != got {
+                return Err(format!("cell {idx:?}: nested references differ"));
+            }
+            reached += 1 + self.check(prims, sg, &sub.children, own, pad)?;
         }
-        let mut next: Vec<u32> = offsets[..count].to_vec();
-        let mut out = vec![0u32; offsets[count] as usize];
-        each(&mut |c, p| {
-            out[next[c] as usize] = p;
-            next[c] += 1;
-        });
-        Self {
-            start,
-            geom,
-            occ: dense_occupancy(&offsets),
-            offsets: offsets.into_boxed_slice(),
-            refs: out.into_boxed_slice(),
-        }
+        Ok(reached)
     }
 }
 
-/// What the nested grid of outer cell `idx` spans: the cell's box widened
-/// by the pad, shrunk to the union of its references' `boxes`. (Should the
-/// two miss each other by rounding on some axis, no hit of these
-/// references lies in the cell along it, and the flat box left is as good
-/// as any.)
-pub(crate) fn cover(outer: &Geom, idx: [u32; 3], boxes: impl Iterator<Item = Aabb>) -> Aabb {
+/// Splits the references `refs` of cell `idx` of grid `g` into those that
+/// span at least half of the (padded) cell along two axes or more, to be
+/// tested directly, and the others, for the nested grid. Only when the
+/// direct ones are at most an eighth of the references: otherwise none.
+fn split<P: Primitive>(prims: &[P], g: &Geom, idx: [u32; 3], refs: &[u32]) -> (Vec<u32>, Vec<u32>) {
+    let cell = g.padded_cell_box(idx);
+    let half = cell.extent() * 0.5;
+    let spans = |r: u32| {
+        let b = prims[r as usize].bounds();
+        let e = b.max.min(cell.max) - b.min.max(cell.min);
+        u32::from(e.x >= half.x) + u32::from(e.y >= half.y) + u32::from(e.z >= half.z) >= 2
+    };
+    let (direct, inner): (Vec<u32>, Vec<u32>) = refs.iter().partition(|&&r| spans(r));
+    if direct.len() * 8 > refs.len() {
+        (Vec::new(), refs.to_vec())
+    } else {
+        (direct, inner)
+    }
+}
+
+/// Plans the nested grid of cell `idx` of grid `g`, whose references are
+/// `refs`; `None` when it would not separate them.
+fn plan<P: Primitive>(
+    prims: &[P],
+    g: &Geom,
+    idx: [u32; 3],
+    refs: &[u32],
+    p: &NestParams,
+) -> Option<Plan> {
+    let (direct, inner) = split(prims, g, idx, refs);
+    let boxes: Vec<Aabb> = inner.iter().map(|&r| prims[r as usize].bounds()).collect();
+    let cell = cover(g, idx, boxes.iter().copied());
+    let e = cell.extent();
+    let ext = [geom::wide(e.x), geom::wide(e.y), geom::wide(e.z)];
+    let dims = geom::resolution(ext, inner.len(), p.m, MAX_SUB_CELLS);
+    if dims == [1, 1, 1] {
+        return None;
+    }
+    let geom = Geom::new(cell, dims).with_pad(p.pad);
+    let count = geom.cell_count() as usize;
+    let ranges: Vec<(u32, CellRange)> = inner
+        .iter()
+        .zip(&boxes)
+        .map(|(&r, b)| (r, geom.cell_range(b)))
+        .collect();
+    let mut offsets = vec![0u32; count + 1];
+    for &(_, range) in &ranges {
+        geom.for_each_cell(range, |c| offsets[c + 1] += 1);
+    }
+    let occupied = offsets[1..].iter().filter(|&&n| n > 0).count().max(1);
+    let total: u64 = offsets.iter().map(|&n| u64::from(n)).sum();
+    if total as f64 > SEPARATION * refs.len() as f64 * occupied as f64 {
+        return None;
+    }
+    for c in 0..count {
+        offsets[c + 1] += offsets[c];
+    }
+    Some(Plan {
+        geom,
+        offsets,
+        ranges,
+        direct,
+    })
+}
+
+/// Fills a planned nested grid (its references in order).
+fn fill(plan: &Plan, start: u32, depth: u32) -> Sub {
+    let count = plan.offsets.len() - 1;
+    let mut next: Vec<u32> = plan.offsets[..count].to_vec();
+    let mut out = vec![0u32; plan.offsets[count] as usize];
+    for &(r, range) in &plan.ranges {
+        plan.geom.for_each_cell(range, |c| {
+            out[next[c] as usize] = r;
+            next[c] += 1;
+        });
+    }
+    Sub {
+        start,
+        geom: plan.geom.clone(),
+        occ: dense_occupancy(&plan.offsets),
+        offsets: plan.offsets.clone().into_boxed_slice(),
+        refs: out.into_boxed_slice(),
+        direct: plan.direct.clone().into_boxed_slice(),
+        children: Children::default(),
+        depth,
+    }
+}
+
+/// What the nested grid of cell `idx` of grid `g` spans: the union of its
+/// references' `boxes` (their tight bounds), clipped to the cell's box
+/// widened by its pad. Should the two miss each other by rounding on some axis, no hit
+/// of these references lies in the cell along it, and the flat box left is
+/// as good as any.
+pub(crate) fn cover(g: &Geom, idx: [u32; 3], boxes: impl Iterator<Item = Aabb>) -> Aabb {
     let union = boxes.fold(Aabb::EMPTY, Aabb::union);
-    let cell = outer.padded_cell_box(idx);
+    let cell = g.padded_cell_box(idx);
     let lo = cell.min.max(union.min);
     Aabb::new(lo, cell.max.min(union.max).max(lo))
 }

@@ -10,5 +10,7 @@ mod support;
 mod build;
 mod equivalence;
 mod hard_cases;
+mod hierarchy;
 mod nested;
+mod offset;
 mod traversal;

@@ -115,7 +115,7 @@ fn nested_grids_follow_their_own_m() {
     let finer = Grid::build(tris, &config(0.5, Some(1.5)));
     // The outer grid is the same; `None` means the outer grid's m.
     assert_eq!(same.dims(), finer.dims());
-    assert_eq!(same.stats().nested_cells, finer.stats().nested_cells);
+    assert_eq!(same.stats().references, finer.stats().references);
     assert_eq!(same.stats().bytes, explicit.stats().bytes);
     // Finer nested grids hold more cells, so more bytes, and a ray tests
     // fewer triangles in them.

@@ -1,0 +1,253 @@
+//! The queries' per-cell work: the closest hit and any hit, each walking a
+//! crowded cell's nested grid instead of testing its references.
+
+use super::EXIT_MARGIN;
+use crate::counters::Counters;
+use crate::dda::{CellFn, CellVisit, Dda};
+use crate::nested::{Children, Sub};
+use crate::{Hit, Primitive};
+use gridrt_bbox::{Ray, Real};
+use std::ops::ControlFlow;
+
+/// Where the run `cell` of the grid's references `all` starts among them.
+#[inline(always)]
+pub(super) fn run_start(all: &[u32], cell: &[u32]) -> u32 {
+    ((cell.as_ptr() as usize - all.as_ptr() as usize) / std::mem::size_of::<u32>()) as u32
+}
+
+/// The primitive index of reference `r`: `r` itself, or its slot's entry
+/// in `ids` for a grid with copies.
+#[inline(always)]
+pub(super) fn prim_id(ids: &[u32], r: u32) -> u32 {
+    ids.get(r as usize).map_or(r, |&p| p)
+}
+
+/// The closest-hit query's per-cell work.
+pub(super) struct Closest<'q, P, C, const MB: bool> {
+    /// What the references index: the grid's copies or its primitives.
+    pub(super) prims: &'q [P],
+    /// Empty, or the primitive index of each slot.
+    pub(super) ids: &'q [u32],
+    /// The walked grid's references (a cell's nested grid is found by its
+    /// run's start).
+    pub(super) refs: &'q [u32],
+    /// The walked grid's cells with nested grids.
+    pub(super) children: &'q Children,
+    /// Every nested grid.
+    pub(super) subs: &'q [Sub],
+    pub(super) ray: &'q Ray,
+    pub(super) t_min: Real,
+    /// `t_max`, then the best hit's t.
+    pub(super) t_lim: Real,
+    pub(super) best: Option<Hit>,
+    pub(super) stamps: &'q mut [u32],
+    pub(super) stamp: u32,
+    pub(super) counters: &'q mut C,
+}
+
+impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
+    /// Tests one primitive, keeping its hit if it is better ([`Hit::is_better_than`]).
+    #[inline(always)]
+    fn test(&mut self, r: u32) {
+        debug_assert!((r as usize) < self.prims.len());
+        // SAFETY: every stored reference is a valid index into `prims`
+        // (checked by `check_invariants`).
+        let prim = unsafe { self.prims.get_unchecked(r as usize) };
+        let ids = self.ids;
+        self.test_prim(|| prim_id(ids, r), prim);
+    }
+
+    /// Tests primitive `p`, given as `prim` (the original or a copy).
+    #[inline(always)]
+    pub(super) fn test_prim(&mut self, p: impl FnOnce() -> u32, prim: &P) {
+        self.counters.test();
+        if let Some(h) = prim.closest_hit(self.ray, self.t_min, self.t_lim) {
+            self.keep(Hit::new(h, p()));
+        }
+    }
+
+    /// Keeps `hit` if it is better ([`Hit::is_better_than`]); gives the
+    /// limit for the tests that follow.
+    #[inline(always)]
+    fn keep(&mut self, hit: Hit) -> Real {
+        if self.best.as_ref().map_or(true, |b| hit.is_better_than(b)) {
+            self.t_lim = hit.t;
+            self.best = Some(hit);
+        }
+        self.t_lim
+    }
+
+    /// Walks the nested grid of a crowded cell instead of testing the
+    /// cell's references one by one: the same query, one level down.
+    #[inline(never)]
+    fn walk_sub(&mut self, sub: &Sub) {
+        if !sub.direct.is_empty() {
+            self.test_refs(&sub.direct);
+        }
+        let Some(dda) = Dda::new(&sub.geom, self.ray, self.t_min, self.t_lim) else {
+            return;
+        };
+        let lookup = sub.lookup();
+        let mut q = Closest::<P, C, MB> {
+            prims: self.prims,
+            ids: self.ids,
+            refs: &sub.refs,
+            children: &sub.children,
+            subs: self.subs,
+            ray: self.ray,
+            t_min: self.t_min,
+            t_lim: self.t_lim,
+            best: self.best,
+            stamps: &mut *self.stamps,
+            stamp: self.stamp,
+            counters: &mut *self.counters,
+        };
+        let _ = dda.walk(&lookup, &mut q);
+        (self.t_lim, self.best) = (q.t_lim, q.best);
+    }
+}
+
+impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for Closest<'_, P, C, MB> {
+    type Break = ();
+
+    #[inline(always)]
+    fn call(&mut self, visit: CellVisit, refs: &'a [u32]) -> ControlFlow<()> {
+        self.counters.cell();
+        if refs.is_empty() {
+            return ControlFlow::Continue(());
+        }
+        if let Some(i) = self.children.find(refs.len(), run_start(self.refs, refs)) {
+            // SAFETY: `Children::find` returns arena indices of `subs`
+            // (checked by `check_invariants`).
+            self.walk_sub(unsafe { self.subs.get_unchecked(i) });
+        } else {
+            self.test_refs(refs);
+        }
+        // Stop only when the best hit is certainly inside this cell: a hit on
+        // (or within rounding of) the exit plane may tie with a lower-index
+        // primitive of the next cell. A hit found here that lies in a later
+        // cell stays in `best` and is confirmed there. (Empty cells cannot
+        // change the answer, so the test is made after occupied ones only.)
+        let t_exit = visit.t_exit;
+        if self.best.is_some() && self.t_lim < t_exit - t_exit.abs() * EXIT_MARGIN {
+            return ControlFlow::Break(());
+        }
+        ControlFlow::Continue(())
+    }
+}
+
+impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
+    /// Tests the references of one cell.
+    #[inline(always)]
+    fn test_refs(&mut self, refs: &[u32]) {
+        if !MB {
+            self.counters.tests(refs.len());
+            let (prims, ids, ray, t_min, t_lim) =
+                (self.prims, self.ids, self.ray, self.t_min, self.t_lim);
+            P::closest_hits(prims, refs, ray, t_min, t_lim, &mut |r, h| {
+                self.keep(Hit::new(h, prim_id(ids, r)))
+            });
+            return;
+        }
+        // With the mailbox, one at a time: each reference's stamp decides.
+        for &p in refs {
+            debug_assert!((p as usize) < self.stamps.len());
+            // SAFETY: `GridScratch::begin` sized the stamps to the primitive count.
+            let s = unsafe { self.stamps.get_unchecked_mut(p as usize) };
+            if *s == self.stamp {
+                self.counters.mailbox_skip();
+                continue;
+            }
+            *s = self.stamp;
+            self.test(p);
+        }
+    }
+}
+
+/// The any-hit query's per-cell work.
+pub(super) struct AnyHit<'q, P, C, const MB: bool> {
+    /// What the references index: the grid's copies or its primitives.
+    pub(super) prims: &'q [P],
+    /// The walked grid's references (a cell's nested grid is found by its
+    /// run's start).
+    pub(super) refs: &'q [u32],
+    /// The walked grid's cells with nested grids.
+    pub(super) children: &'q Children,
+    /// Every nested grid.
+    pub(super) subs: &'q [Sub],
+    pub(super) ray: &'q Ray,
+    pub(super) t_min: Real,
+    pub(super) t_max: Real,
+    pub(super) stamps: &'q mut [u32],
+    pub(super) stamp: u32,
+    pub(super) counters: &'q mut C,
+}
+
+impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for AnyHit<'_, P, C, MB> {
+    type Break = ();
+
+    #[inline(always)]
+    fn call(&mut self, _: CellVisit, refs: &'a [u32]) -> ControlFlow<()> {
+        self.counters.cell();
+        if refs.is_empty() {
+            return ControlFlow::Continue(());
+        }
+        if let Some(i) = self.children.find(refs.len(), run_start(self.refs, refs)) {
+            // SAFETY: as in the closest-hit query.
+            return self.walk_sub(unsafe { self.subs.get_unchecked(i) });
+        }
+        self.test_refs(refs)
+    }
+}
+
+impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
+    /// Tests references until one is hit.
+    #[inline(always)]
+    fn test_refs(&mut self, refs: &[u32]) -> ControlFlow<()> {
+        for &p in refs {
+            if MB {
+                // SAFETY: `GridScratch::begin` sized the stamps to the primitive count.
+                let s = unsafe { self.stamps.get_unchecked_mut(p as usize) };
+                if *s == self.stamp {
+                    self.counters.mailbox_skip();
+                    continue;
+                }
+                *s = self.stamp;
+            }
+            self.counters.test();
+            // SAFETY: every stored reference is a valid index into `prims`.
+            let prim = unsafe { self.prims.get_unchecked(p as usize) };
+            if prim.any_hit(self.ray, self.t_min, self.t_max) {
+                return ControlFlow::Break(());
+            }
+        }
+        ControlFlow::Continue(())
+    }
+}
+
+impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
+    /// Walks the nested grid of a crowded cell: only the references in the
+    /// nested cells along the ray are tested. An occluder whose hit lies
+    /// outside this cell is found in the cell that holds the hit.
+    #[inline(never)]
+    fn walk_sub(&mut self, sub: &Sub) -> ControlFlow<()> {
+        self.test_refs(&sub.direct)?;
+        let Some(dda) = Dda::new(&sub.geom, self.ray, self.t_min, self.t_max) else {
+            return ControlFlow::Continue(());
+        };
+        let lookup = sub.lookup();
+        let mut q = AnyHit::<P, C, MB> {
+            prims: self.prims,
+            refs: &sub.refs,
+            children: &sub.children,
+            subs: self.subs,
+            ray: self.ray,
+            t_min: self.t_min,
+            t_max: self.t_max,
+            stamps: &mut *self.stamps,
+            stamp: self.stamp,
+            counters: &mut *self.counters,
+        };
+        dda.walk(&lookup, &mut q)
+    }
+}

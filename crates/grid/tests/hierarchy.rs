@@ -1,0 +1,198 @@
+//! The hierarchy of nested grids on clustered scenes: a dense cluster in a
+//! huge box, fans of triangles around one vertex, stacks of coincident
+//! triangles, clusters far from the origin. Same answers as exhaustive
+//! with and without mailboxing, automatic and explicit nesting, and the
+//! memory budget never exceeded, whatever the settings.
+
+use crate::support::prims::{Sphere, Triangle};
+use crate::support::scenes::suffern_spheres;
+use crate::support::Checker;
+use gridrt_grid::{CellStorage, Grid, GridConfig, Ray, Real, Vec3};
+use proptest::prelude::*;
+
+/// Automatic nesting, nesting from 2 and 8 references (dense and hashed),
+/// and a budget small enough to stop the recursion early; mailbox on and
+/// off for each.
+fn configs() -> Vec<GridConfig> {
+    let mut v = Vec::new();
+    for mailbox in [false, true] {
+        v.push(GridConfig {
+            mailbox,
+            ..GridConfig::default()
+        });
+        for (nest, storage) in [(2, CellStorage::Dense), (8, CellStorage::Hashed)] {
+            v.push(GridConfig {
+                mailbox,
+                storage,
+                nest_min_refs: nest,
+                ..GridConfig::default()
+            });
+        }
+        v.push(GridConfig {
+            mailbox,
+            nest_min_refs: 2,
+            memory_budget: Some(24 << 10),
+            ..GridConfig::default()
+        });
+    }
+    v
+}
+
+fn cases(n: u32) -> ProptestConfig {
+    ProptestConfig {
+        cases: n,
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    }
+}
+
+/// A triangle from three points `c + s·p`.
+fn tri(c: Vec3, s: Real, p: [[Real; 3]; 3]) -> Triangle {
+    let v = p.map(|q| c + Vec3::from_array(q) * s);
+    Triangle::new(v[0], v[1], v[2])
+}
+
+/// Small triangles in a cluster of size `s` around `c`, a few huge ones
+/// around it (a room `room` wide), and rays from all around, aimed at the
+/// cluster; every ray checked against exhaustive.
+fn check_cluster(c: Vec3, s: Real, room: Real, small: &[[[Real; 3]; 3]], aims: &[[Real; 6]]) {
+    let mut scene: Vec<Triangle> = small.iter().map(|&p| tri(c, s, p)).collect();
+    let r = room;
+    // A floor under the cluster and two walls.
+    scene.push(tri(c, 1.0, [[-r, -s, -r], [r, -s, -r], [0.0, -s, r]]));
+    scene.push(tri(c, 1.0, [[-r, -r, -r], [r, -r, -r], [0.0, r, -r]]));
+    scene.push(tri(c, 1.0, [[-r, -r, -r], [-r, r, -r], [-r, 0.0, r]]));
+    let checker = Checker::new(scene, &configs());
+    for a in aims {
+        let from = c + Vec3::new(a[0], a[1], a[2]) * (2.0 * s);
+        let to = c + Vec3::new(a[3], a[4], a[5]) * (0.5 * s);
+        checker.check(&Ray::new(from, to - from), 0.0, Real::INFINITY);
+        // The same line from across the room.
+        let far = to + (from - to) * (r / (2.0 * s));
+        checker.check(&Ray::new(far, to - far), 0.0, Real::INFINITY);
+    }
+}
+
+fn unit() -> impl Strategy<Value = Real> + Clone {
+    -1.0 as Real..1.0
+}
+
+fn points3() -> impl Strategy<Value = [[Real; 3]; 3]> {
+    let p = || [unit(), unit(), unit()];
+    [p(), p(), p()]
+}
+
+fn aims(n: usize) -> impl Strategy<Value = Vec<[Real; 6]>> {
+    prop::collection::vec([unit(), unit(), unit(), unit(), unit(), unit()], n)
+}
+
+proptest! {
+    #![proptest_config(cases(3))]
+
+    #[test]
+    fn a_dense_cluster_in_a_huge_room(
+        small in prop::collection::vec(points3().prop_map(|p| p.map(|q| q.map(|x| x * 0.05))), 20..120),
+        aims in aims(12),
+    ) {
+        check_cluster(Vec3::new(0.3, 0.1, -0.2), 1.0, 500.0, &small, &aims);
+    }
+
+    #[test]
+    fn a_cluster_far_from_the_origin(
+        small in prop::collection::vec(points3().prop_map(|p| p.map(|q| q.map(|x| x * 0.05))), 20..120),
+        aims in aims(12),
+        at in prop::sample::select(vec![1e3 as Real, -2e4, 1e5]),
+    ) {
+        check_cluster(Vec3::new(at, 0.5 * at, -at), 1.0, 300.0, &small, &aims);
+    }
+
+    #[test]
+    fn fans_around_one_vertex(
+        rim in prop::collection::vec([unit(), unit(), unit()], 30..150),
+        aims in aims(12),
+    ) {
+        // Every triangle shares the vertex at the cluster's centre.
+        let small: Vec<[[Real; 3]; 3]> = rim
+            .windows(2)
+            .map(|w| [[0.0; 3], w[0], w[1]])
+            .collect();
+        check_cluster(Vec3::new(1.0, 2.0, 3.0), 0.5, 200.0, &small, &aims);
+    }
+
+    #[test]
+    fn coincident_triangles(
+        base in points3(),
+        copies in 50usize..150,
+        others in prop::collection::vec(points3(), 0..40),
+        aims in aims(12),
+    ) {
+        let mut small = vec![base; copies];
+        small.extend(others);
+        check_cluster(Vec3::new(-2.0, 0.0, 1.0), 0.5, 200.0, &small, &aims);
+    }
+}
+
+#[test]
+fn absurd_settings_stay_within_the_budget() {
+    // One sphere, every cell nested, a thousand cells per axis asked for.
+    let one = vec![Sphere::new(Vec3::new(1.0, 2.0, 3.0), 0.5)];
+    let c = GridConfig {
+        m: 1000.0,
+        nest_min_refs: 1,
+        nest_m: Some(1000.0),
+        ..GridConfig::default()
+    };
+    let g = Grid::build(one, &c);
+    g.check_invariants().expect("a valid grid");
+    let s = g.stats();
+    assert!(
+        s.bytes <= s.budget && s.budget <= gridrt_grid::MIN_BUDGET,
+        "{s:?}"
+    );
+
+    // A dense cluster with nesting from one reference and a tiny budget.
+    let small: Vec<Triangle> = (0..500)
+        .map(|i| {
+            let a = i as Real * 0.01;
+            let c = Vec3::new(1e5 + a.sin(), a.cos(), 0.001 * a);
+            Triangle::new(c, c + Vec3::X * 0.01, c + Vec3::Y * 0.01)
+        })
+        .collect();
+    for budget in [0, 10_000, 100_000, 1 << 20] {
+        let c = GridConfig {
+            nest_min_refs: 1,
+            m: 4.0,
+            memory_budget: Some(budget),
+            ..GridConfig::default()
+        };
+        let g = Grid::build(small.clone(), &c);
+        g.check_invariants().expect("a valid grid");
+        let s = g.stats();
+        assert!(s.bytes <= s.budget, "{budget}: {s:?}");
+        assert!(s.budget >= budget, "{budget}: {s:?}");
+    }
+}
+
+#[test]
+fn auto_nests_a_crowded_cell_and_leaves_a_uniform_scene_flat() {
+    // A fine cluster in a huge room: the flat grid puts it in one cell.
+    let mut scene: Vec<Triangle> = (0..3000)
+        .map(|i| {
+            let a = i as Real;
+            let c = Vec3::new((a * 0.37).sin(), (a * 0.11).cos(), (a * 0.07).sin()) * 0.5;
+            Triangle::new(c, c + Vec3::X * 0.02, c + Vec3::Z * 0.02)
+        })
+        .collect();
+    for k in [-1.0 as Real, 1.0] {
+        let p = Vec3::splat(1000.0 * k);
+        scene.push(Triangle::new(p, p + Vec3::X, p + Vec3::Y));
+    }
+    let g = Grid::build(scene, &GridConfig::default());
+    g.check_invariants().expect("a valid grid");
+    assert!(g.stats().nested_cells > 0 && g.stats().nest_min_refs > 0);
+
+    // A uniform scene (Suffern's random spheres): no cell stands out.
+    let uniform = suffern_spheres(10_000);
+    let g = Grid::build(uniform, &GridConfig::default());
+    assert_eq!(g.stats().nested_cells, 0, "{:?}", g.stats());
+}
