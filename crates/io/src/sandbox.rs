@@ -181,6 +181,26 @@ impl Sandbox {
         &self.roots
     }
 
+    /// The canonical path of an input named directly (on the command line,
+    /// or by a service), which must lie under one of the roots: a symbolic
+    /// link in an upload folder cannot make the job read outside it.
+    ///
+    /// # Errors
+    /// [`Error::Denied`] when the resolved path is outside every root.
+    pub(crate) fn top_level(&self, path: &Path) -> Result<PathBuf> {
+        let real = canonical(path);
+        if self.roots.iter().any(|r| real.starts_with(r)) {
+            Ok(real)
+        } else {
+            Err(Error::Denied {
+                path: path.to_path_buf(),
+                place: String::new(),
+                reference: path.display().to_string(),
+                model: false,
+            })
+        }
+    }
+
     /// Resolves `reference`, named by the file `from` (a canonical path), for
     /// a scene (`model == false`: any root) or a model file (`model ==
     /// true`: `from`'s folder and the explicitly allowed folders). Returns
@@ -485,6 +505,24 @@ mod tests {
                 assert!(matches!(e, Error::Denied { .. }), "{bad}: {e}");
             }
         }
+    }
+
+    #[test]
+    fn a_confined_job_cannot_start_outside() {
+        let dir = tempfile::tempdir().unwrap();
+        let root = std::fs::canonicalize(dir.path()).unwrap();
+        let job = root.join("job");
+        std::fs::create_dir(&job).unwrap();
+        std::fs::write(root.join("other.ron"), "()").unwrap();
+        let sb = Sandbox::confined(&[job.as_path()]).unwrap();
+        #[cfg(unix)]
+        {
+            std::os::unix::fs::symlink(root.join("other.ron"), job.join("s.ron")).unwrap();
+            let e = crate::load_scene_in(&job.join("s.ron"), &sb).unwrap_err();
+            assert!(matches!(e, Error::Denied { .. }), "{e}");
+        }
+        let e = crate::load_scene_in(&root.join("other.ron"), &sb).unwrap_err();
+        assert!(matches!(e, Error::Denied { .. }), "{e}");
     }
 
     #[test]

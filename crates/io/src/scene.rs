@@ -59,7 +59,7 @@ pub fn load_scene_in(path: &Path, sandbox: &Sandbox) -> Result<LoadedScene> {
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     if ext.as_deref() == Some("ron") {
-        let real = crate::sandbox::canonical(path);
+        let real = sandbox.top_level(path)?;
         let bytes = sandbox.read(&real).map_err(|e| e.renamed(&real, path))?;
         let text = String::from_utf8(bytes).map_err(|e| {
             let (line, col) = line_col(e.as_bytes(), e.utf8_error().valid_up_to());

@@ -260,3 +260,41 @@ fn a_file_size_limit_is_an_error_and_keeps_the_old_files() {
     assert!(e.contains("old.json: cannot write: File too large"), "{e}");
     assert_eq!(snapshot(&dir), before);
 }
+
+#[test]
+fn a_shared_sparse_accessor_without_a_view_is_read_once_and_counted() {
+    let (_d, dir) = dir();
+    // 3 million zero positions from a sparse accessor without a buffer
+    // view, used by 50 primitives of one mesh: decoded once; the 50
+    // million triangles they make are over the default budget before any
+    // is made.
+    let prims: Vec<&str> = vec![r#"{"attributes": {"POSITION": 1}}"#; 50];
+    let f = dir.join("sparse.gltf");
+    let text = gltf(&format!(
+        r#""nodes": [{{"mesh": 1}}], "scenes": [{{"nodes": [0]}}]"#
+    ))
+    .replace(
+        r#""meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}]"#,
+        &format!(
+            r#""meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}}}]}}, {{"primitives": [{}]}}]"#,
+            prims.join(",")
+        ),
+    )
+    .replace(
+        r#""accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}]"#,
+        r#""accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"},
+          {"componentType": 5126, "count": 3000000, "type": "VEC3",
+           "sparse": {"count": 1, "indices": {"bufferView": 0, "componentType": 5125},
+                      "values": {"bufferView": 0}}}]"#,
+    );
+    std::fs::write(&f, text).unwrap();
+    refused(
+        &["info", f.to_str().unwrap()],
+        &dir,
+        &dir,
+        &[
+            "sparse.gltf: the scene expands to at least 50000000 primitives",
+            "--max-primitives",
+        ],
+    );
+}

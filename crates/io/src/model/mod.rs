@@ -130,7 +130,7 @@ pub fn load_model_in(path: &Path, sandbox: &Sandbox) -> Result<Model> {
             models_only: true,
         });
     }
-    let real = crate::sandbox::canonical(path);
+    let real = sandbox.top_level(path)?;
     load_resolved(path, &real, sandbox)
 }
 
