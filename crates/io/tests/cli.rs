@@ -1,16 +1,8 @@
 //! The `gridrt` binary end to end.
 
-use crate::fixture;
+use crate::{fixture, gridrt};
 use std::path::Path;
 use std::process::{Command, Output};
-
-fn gridrt(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gridrt"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("the gridrt binary runs")
-}
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()

@@ -1,19 +1,11 @@
 //! Frames split across processes: `render --tile/--crop`, `merge`, `diff`,
 //! and the recipe scripts of `docs/farm/`, end to end.
 
-use crate::fixture;
+use crate::{fixture, gridrt};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 const BIN: &str = env!("CARGO_BIN_EXE_gridrt");
-
-fn gridrt(args: &[&str], cwd: &Path) -> Output {
-    Command::new(BIN)
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("the gridrt binary runs")
-}
 
 fn ok(o: &Output) {
     assert!(

@@ -50,6 +50,15 @@ pub fn parse_scene(
     gridrt_io::parse_scene_in(text, path, &sandbox(path))
 }
 
+/// Runs the `gridrt` binary with `args` in `cwd`.
+pub fn gridrt(args: &[&str], cwd: &std::path::Path) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_gridrt"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("the gridrt binary runs")
+}
+
 /// A file under `fixtures/`.
 pub fn fixture(rel: &str) -> PathBuf {
     fixtures().join(rel)

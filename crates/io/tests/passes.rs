@@ -1,16 +1,6 @@
 //! `gridrt render --aov`: render passes as EXR channels and PNG pictures.
 
-use crate::fixture;
-use std::path::Path;
-use std::process::{Command, Output};
-
-fn gridrt(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gridrt"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("the gridrt binary runs")
-}
+use crate::{fixture, gridrt};
 
 fn channel(img: &exr::prelude::FlatImage, name: &str) -> Vec<f32> {
     let c = img.layer_data[0]
