@@ -58,7 +58,7 @@ pub enum Command {
 /// Options of `gridrt render`.
 #[derive(Debug, Clone, Args)]
 pub struct RenderArgs {
-    /// Scene file (.ron) or model (.obj, .gltf, .glb); the built-in default
+    /// Scene file (.ron) or model (.obj, .ply, .gltf, .glb); the built-in default
     /// scene when absent.
     #[arg(value_name = "SCENE")]
     pub scene: Option<PathBuf>,
@@ -105,7 +105,7 @@ pub struct RenderArgs {
 /// Options of `gridrt info`.
 #[derive(Debug, Clone, Args)]
 pub struct InfoArgs {
-    /// Scene file (.ron) or model (.obj, .gltf, .glb); the built-in default
+    /// Scene file (.ron) or model (.obj, .ply, .gltf, .glb); the built-in default
     /// scene when absent.
     #[arg(value_name = "SCENE")]
     pub scene: Option<PathBuf>,
@@ -120,7 +120,7 @@ pub struct InfoArgs {
 /// Options of `gridrt rays`.
 #[derive(Debug, Clone, Args)]
 pub struct RaysArgs {
-    /// The mesh (.obj, .gltf, .glb); triangle indices follow its order.
+    /// The mesh (.obj, .ply, .gltf, .glb); triangle indices follow its order.
     #[arg(value_name = "MESH")]
     pub mesh: PathBuf,
     /// Rays, one `ox,oy,oz,dx,dy,dz[,tmin,tmax]` per line.

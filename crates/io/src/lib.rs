@@ -1,4 +1,4 @@
-//! Everything that touches the outside world: RON scene files, OBJ and glTF
+//! Everything that touches the outside world: RON scene files, OBJ, PLY and glTF
 //! meshes, PNG and EXR images, ray-query CSV files, and the `gridrt`
 //! command-line renderer built on them.
 //!

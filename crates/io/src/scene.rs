@@ -36,7 +36,7 @@ pub struct LoadedScene {
     pub framed_camera: bool,
 }
 
-/// Reads a scene: a `.ron` scene file, or an `.obj`/`.gltf`/`.glb` model
+/// Reads a scene: a `.ron` scene file, or an `.obj`/`.ply`/`.gltf`/`.glb` model
 /// rendered on its own (see [`scene_from_model`]), reading only from the
 /// scene's folder and the working directory ([`Sandbox::for_input`]).
 ///

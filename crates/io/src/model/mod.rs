@@ -1,4 +1,5 @@
-//! Models read from mesh files (OBJ through tobj, glTF 2.0 through gltf):
+//! Models read from mesh files (OBJ through tobj, PLY through ply-rs-bw,
+//! glTF 2.0 through gltf):
 //! triangle meshes in the file's world space, with the file's materials and,
 //! for glTF, its cameras and lights.
 
@@ -6,6 +7,7 @@ pub(crate) mod base64;
 mod gltf;
 mod gltf_graph;
 mod obj;
+mod ply;
 
 pub(crate) use self::gltf::SPOT_WARNING;
 use crate::error::{Error, Result};
@@ -22,6 +24,8 @@ pub enum ModelFormat {
     Obj,
     /// glTF 2.0, `.gltf` (JSON with external or embedded buffers) or `.glb`.
     Gltf,
+    /// Stanford PLY, ASCII or binary (little or big endian).
+    Ply,
 }
 
 impl ModelFormat {
@@ -32,6 +36,7 @@ impl ModelFormat {
         match ext.as_str() {
             "obj" => Some(Self::Obj),
             "gltf" | "glb" => Some(Self::Gltf),
+            "ply" => Some(Self::Ply),
             _ => None,
         }
     }
@@ -103,7 +108,7 @@ pub struct ModelCamera {
     pub aspect: Option<f64>,
 }
 
-/// Reads an OBJ or glTF file (by extension), reading only from its own
+/// Reads an OBJ, PLY or glTF file (by extension), reading only from its own
 /// folder and the working directory (see [`load_model_in`]).
 ///
 /// # Errors
@@ -112,7 +117,7 @@ pub fn load_model(path: &Path) -> Result<Model> {
     load_model_in(path, &Sandbox::for_input(path))
 }
 
-/// Reads an OBJ or glTF file (by extension) under a [`Sandbox`]: the file
+/// Reads an OBJ, PLY or glTF file (by extension) under a [`Sandbox`]: the file
 /// itself is read as named (it must be a regular file within the size
 /// limit); the files it names (`mtllib`, buffers) only from its own folder
 /// and the sandbox's explicitly allowed folders.
@@ -121,7 +126,7 @@ pub fn load_model(path: &Path) -> Result<Model> {
 /// [`Error::UnsupportedInput`] for another extension, [`Error::Read`] /
 /// [`Error::NotRegular`] when the file cannot be read, [`Error::Denied`]
 /// for a reference outside the allowed folders, [`Error::Limit`] over a
-/// budget, [`Error::Obj`] / [`Error::Gltf`] when it is malformed or holds
+/// budget, [`Error::Obj`] / [`Error::Ply`] / [`Error::Gltf`] when it is malformed or holds
 /// no triangles.
 pub fn load_model_in(path: &Path, sandbox: &Sandbox) -> Result<Model> {
     if ModelFormat::from_path(path).is_none() {
@@ -141,6 +146,7 @@ pub(crate) fn load_resolved(path: &Path, real: &Path, sandbox: &Sandbox) -> Resu
     match ModelFormat::from_path(path) {
         Some(ModelFormat::Obj) => obj::load(path, real, &bytes, sandbox),
         Some(ModelFormat::Gltf) => gltf::load(path, real, &bytes, sandbox),
+        Some(ModelFormat::Ply) => ply::load(path, &bytes, sandbox),
         None => Err(Error::UnsupportedInput {
             path: path.to_path_buf(),
             models_only: true,
