@@ -35,6 +35,14 @@ pub fn frame(bounds: Aabb, vfov_deg: f64, aspect: f64) -> Camera {
     }
 }
 
+/// A model's mesh as rendered on its own: oriented, and smooth where the
+/// file has no normals (crease angle [`model::DEFAULT_CREASE_DEG`]).
+fn smoothed(mm: &model::ModelMesh) -> gridrt_tracer::Mesh {
+    let mut mesh = mm.oriented();
+    model::Normals::Smooth(model::Crease(model::DEFAULT_CREASE_DEG)).apply(&mut mesh);
+    mesh
+}
+
 /// Default image width of a model rendered on its own.
 const MODEL_WIDTH: u32 = 640;
 /// Default image height of a model rendered on its own.
@@ -53,7 +61,7 @@ pub fn scene_from_model(model: Model) -> LoadedScene {
         .meshes
         .iter()
         .map(|mm| Object {
-            geometry: Geometry::Mesh(Box::new(mm.oriented())),
+            geometry: Geometry::Mesh(Box::new(smoothed(mm))),
             material: mm.material.map_or_else(
                 || {
                     need_default = true;

@@ -535,7 +535,15 @@ impl<'a> Builder<'a> {
                 transform,
                 material,
                 materials,
-            } => self.mesh(&what, file, transform, material.as_deref(), materials)?,
+                normals,
+            } => self.mesh(
+                &what,
+                file,
+                transform,
+                material.as_deref(),
+                materials,
+                *normals,
+            )?,
             ObjectDesc::RandomSpheres {
                 count,
                 seed,
@@ -595,6 +603,7 @@ impl<'a> Builder<'a> {
         transform: &[TransformDesc],
         material: Option<&str>,
         overrides: &schema::NamedMap<String>,
+        normals: model::Normals,
     ) -> Result<()> {
         let needle = format!("\"{file}\"");
         let place = |b: &Self| b.place(Some(&needle), what);
@@ -696,8 +705,10 @@ impl<'a> Builder<'a> {
                     None => self.default_material(),
                 },
             };
+            let mut mesh = mm.oriented();
+            normals.apply(&mut mesh);
             self.objects.push(Object {
-                geometry: Geometry::Mesh(Box::new(mm.oriented())),
+                geometry: Geometry::Mesh(Box::new(mesh)),
                 material: id,
             });
         }

@@ -12,6 +12,7 @@ mod farm;
 mod fixture_scenes;
 mod full_precision;
 mod models;
+mod normals;
 mod passes;
 mod ply;
 mod shared;

@@ -6,10 +6,12 @@
 pub(crate) mod base64;
 mod gltf;
 mod gltf_graph;
+mod normals;
 mod obj;
 mod ply;
 
 pub(crate) use self::gltf::SPOT_WARNING;
+pub use self::normals::{Crease, Normals, DEFAULT_CREASE_DEG};
 use crate::error::{Error, Result};
 use crate::sandbox::Sandbox;
 use glam::{DMat3, DMat4, DVec3};
