@@ -5,6 +5,7 @@ use crate::cli_outputs::{
     pass_paths, render_part, render_watched, save_interrupted, stage_rendered, Rendered,
 };
 pub use crate::cli_outputs::{AovArgs, AovList, DiffArgs, MergeArgs, PartArgs, PartialArgs};
+pub use crate::cli_view::ViewArgs;
 use crate::error::{escape_control, Error, Result};
 use crate::image_out::{check_image_path, check_output_dir, stage, write_atomic};
 use crate::model::load_model_in;
@@ -39,6 +40,8 @@ pub struct Cli {
 }
 
 /// The subcommands.
+// Parsed once per run: the size of `RenderArgs` costs nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Render a scene (or the built-in default scene) to an image.
@@ -100,6 +103,9 @@ pub struct RenderArgs {
     /// File access and budgets.
     #[command(flatten)]
     pub access: AccessArgs,
+    /// Camera and depth overrides.
+    #[command(flatten)]
+    pub view: ViewArgs,
 }
 
 /// Options of `gridrt info`.
@@ -420,6 +426,7 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     check_cancel(cancel)?;
     warn(&loaded.warnings);
     apply_overrides(&mut loaded.scene.settings, a.width, a.height, a.spp)?;
+    a.view.apply(&mut loaded)?;
     let options = a.accel.options(a.threads);
     let renderer = Renderer::new(&loaded.scene, &options).map_err(|e| Error::Render {
         path: loaded.source.clone(),

@@ -54,11 +54,14 @@ mod aov_out;
 pub mod cli;
 #[cfg(feature = "cli")]
 mod cli_outputs;
+#[cfg(feature = "cli")]
+mod cli_view;
 mod diff;
 mod error;
 mod image_out;
 mod model;
 mod model_scene;
+mod model_view;
 mod parts;
 mod random;
 mod rays;

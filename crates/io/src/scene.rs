@@ -34,6 +34,9 @@ pub struct LoadedScene {
     pub warnings: Vec<String>,
     /// True when the camera was placed automatically to frame the scene.
     pub framed_camera: bool,
+    /// The named cameras of a model rendered on its own (glTF), in node
+    /// order, for `--camera NAME`; empty for a scene file.
+    pub cameras: Vec<(String, Camera)>,
 }
 
 /// Reads a scene: a `.ron` scene file, or an `.obj`/`.ply`/`.gltf`/`.glb` model
@@ -352,6 +355,7 @@ impl<'a> Builder<'a> {
             source: self.path.to_path_buf(),
             warnings: self.warnings,
             framed_camera: framed,
+            cameras: Vec::new(),
         })
     }
 

@@ -55,8 +55,8 @@ pub struct Model {
     /// The file's materials, converted (see `docs/scene-format.md` for the
     /// mapping), in file order.
     pub materials: Vec<NamedMaterial>,
-    /// The first camera in node order (glTF only).
-    pub camera: Option<ModelCamera>,
+    /// The cameras in node order (glTF only): the first is the default view.
+    pub cameras: Vec<ModelCamera>,
     /// The file's lights (glTF `KHR_lights_punctual`; spot lights become point lights).
     pub lights: Vec<Light>,
     /// Things skipped or approximated while reading (points and lines,
@@ -104,6 +104,9 @@ pub struct NamedMaterial {
 /// A camera found in a model file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModelCamera {
+    /// The file's name for it (unnamed glTF cameras get `camera N`, N the
+    /// camera's index), for `--camera NAME`.
+    pub name: String,
     /// The camera in world space.
     pub camera: Camera,
     /// Width / height, when the file gives one.
@@ -194,7 +197,7 @@ impl Model {
                 .map_err(|e| format!("mesh {i} \"{}\": {e}", mm.mesh.name))?;
             mm.mirrored ^= xf.mirrors;
         }
-        if let Some(c) = &mut self.camera {
+        for c in &mut self.cameras {
             c.camera.eye = to_vec3(xf.m.transform_point3(to_dvec3(c.camera.eye)));
             c.camera.look_at = to_vec3(xf.m.transform_point3(to_dvec3(c.camera.look_at)));
             c.camera.up = to_vec3(xf.m.transform_vector3(to_dvec3(c.camera.up)));
@@ -378,7 +381,7 @@ mod tests {
                 mirrored: false,
             }],
             materials: vec![],
-            camera: None,
+            cameras: vec![],
             lights: vec![],
             warnings: vec![],
         };

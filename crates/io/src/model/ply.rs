@@ -261,7 +261,7 @@ pub(crate) fn load(path: &Path, bytes: &[u8], sandbox: &Sandbox) -> Result<Model
             mirrored: false,
         }],
         materials: Vec::new(),
-        camera: None,
+        cameras: Vec::new(),
         lights: Vec::new(),
         warnings,
     })
