@@ -421,7 +421,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
                     ts,
                 );
                 if REFLECT && depth < tr.data.max_depth && kr != 0.0 {
-                    let wr = on_side(reflect(wo, secondary_ns(ng, ns, wo)), ng, true);
+                    let wr = on_side(reflect(wo, secondary_ns(ng, ns, wo)), ng, ns, true);
                     let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wr);
                     ts.counts.reflection += 1;
                     l += cr * kr * Self::li(tr, &Ray::new(origin, wr), depth + 1, ts).color;
@@ -474,11 +474,16 @@ fn secondary_ns(ng: Vec3, ns: Vec3, wo: Vec3) -> Vec3 {
 
 /// `w` on the given side of the geometric surface (`above`: the side `ng`
 /// points to): unchanged when it is, else mirrored across the surface's
-/// plane. A direction that shading normals bend through the surface would
-/// leak light from the other side; mirroring keeps it on the side the
-/// reflection or refraction belongs to.
+/// plane. A direction that a shading normal `ns` bends through the surface
+/// would leak light from the other side; mirroring keeps it on the side
+/// the reflection or refraction belongs to. Where `ns` is `ng` (flat
+/// surfaces, spheres) the direction is on its side by construction, up to
+/// rounding at grazing angles, and is left as it is.
 #[inline]
-fn on_side(w: Vec3, ng: Vec3, above: bool) -> Vec3 {
+fn on_side(w: Vec3, ng: Vec3, ns: Vec3, above: bool) -> Vec3 {
+    if ns == ng {
+        return w;
+    }
     let c = w.dot(ng);
     if (c > 0.0) == above && c != 0.0 {
         return w;
@@ -628,7 +633,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
         };
         let mut l = Rgb::ZERO;
         if REFLECT && fr > 0.0 {
-            let wr = on_side(reflect(wo, ns), ng, true);
+            let wr = on_side(reflect(wo, ns), ng, ns, true);
             let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wr);
             ts.counts.reflection += 1;
             let li = Self::li(tr, &Ray::new(origin, wr), depth + 1, ts);
@@ -637,7 +642,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
         }
         if fr < 1.0 {
             if let Some(wt) = refract(wo, ns, eta) {
-                let wt = on_side(wt, ng, false);
+                let wt = on_side(wt, ng, ns, false);
                 let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wt);
                 ts.counts.refraction += 1;
                 let li = Self::li(tr, &Ray::new(origin, wt), depth + 1, ts);
