@@ -5,6 +5,7 @@ use crate::cli_outputs::{
     pass_paths, render_part, render_watched, save_interrupted, stage_rendered, Rendered,
 };
 pub use crate::cli_outputs::{AovArgs, AovList, DiffArgs, MergeArgs, PartArgs, PartialArgs};
+pub use crate::cli_view::ViewArgs;
 use crate::error::{escape_control, Error, Result};
 use crate::image_out::{check_image_path, check_output_dir, stage, write_atomic};
 use crate::model::load_model_in;
@@ -39,6 +40,8 @@ pub struct Cli {
 }
 
 /// The subcommands.
+// Parsed once per run: the size of `RenderArgs` costs nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Render a scene (or the built-in default scene) to an image.
@@ -58,7 +61,7 @@ pub enum Command {
 /// Options of `gridrt render`.
 #[derive(Debug, Clone, Args)]
 pub struct RenderArgs {
-    /// Scene file (.ron) or model (.obj, .gltf, .glb); the built-in default
+    /// Scene file (.ron) or model (.obj, .ply, .gltf, .glb); the built-in default
     /// scene when absent.
     #[arg(value_name = "SCENE")]
     pub scene: Option<PathBuf>,
@@ -100,12 +103,15 @@ pub struct RenderArgs {
     /// File access and budgets.
     #[command(flatten)]
     pub access: AccessArgs,
+    /// Camera and depth overrides.
+    #[command(flatten)]
+    pub view: ViewArgs,
 }
 
 /// Options of `gridrt info`.
 #[derive(Debug, Clone, Args)]
 pub struct InfoArgs {
-    /// Scene file (.ron) or model (.obj, .gltf, .glb); the built-in default
+    /// Scene file (.ron) or model (.obj, .ply, .gltf, .glb); the built-in default
     /// scene when absent.
     #[arg(value_name = "SCENE")]
     pub scene: Option<PathBuf>,
@@ -120,7 +126,7 @@ pub struct InfoArgs {
 /// Options of `gridrt rays`.
 #[derive(Debug, Clone, Args)]
 pub struct RaysArgs {
-    /// The mesh (.obj, .gltf, .glb); triangle indices follow its order.
+    /// The mesh (.obj, .ply, .gltf, .glb); triangle indices follow its order.
     #[arg(value_name = "MESH")]
     pub mesh: PathBuf,
     /// Rays, one `ox,oy,oz,dx,dy,dz[,tmin,tmax]` per line.
@@ -420,6 +426,7 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     check_cancel(cancel)?;
     warn(&loaded.warnings);
     apply_overrides(&mut loaded.scene.settings, a.width, a.height, a.spp)?;
+    a.view.apply(&mut loaded)?;
     let options = a.accel.options(a.threads);
     let renderer = Renderer::new(&loaded.scene, &options).map_err(|e| Error::Render {
         path: loaded.source.clone(),

@@ -141,6 +141,19 @@ pub enum Error {
         msg: String,
     },
 
+    /// A PLY file is malformed: a bad header, a payload shorter than the
+    /// header says, a non-finite vertex, a face index out of range, no
+    /// `vertex` element with `x`, `y`, `z` or no faces.
+    #[error("{}{}: {msg}", .path.display(), Place(.place))]
+    Ply {
+        /// The `.ply` file.
+        path: PathBuf,
+        /// Where: `line 12` (header, ASCII payload), `vertex 7`, `face 3`, or empty.
+        place: String,
+        /// What is wrong and how to fix it.
+        msg: String,
+    },
+
     /// A line of a rays CSV file is not `ox,oy,oz,dx,dy,dz[,tmin,tmax]`.
     #[error("{}:{line}: {msg}", .path.display())]
     Rays {
@@ -154,18 +167,18 @@ pub enum Error {
 
     /// An input file that is not a scene or model gridrt reads, judged by
     /// its extension: a material library, a glTF buffer, a texture, a
-    /// licence file, a mesh format gridrt does not read (PLY, STL, …). Give
-    /// a `.ron` scene or an `.obj`, `.gltf` or `.glb` model instead (`gridrt
-    /// rays` takes models only); the message says what the file probably is.
+    /// licence file, a mesh format gridrt does not read (STL, FBX, …). Give
+    /// a `.ron` scene or an `.obj`, `.ply`, `.gltf` or `.glb` model instead
+    /// (`gridrt rays` takes models only); the message says what the file probably is.
     #[error(
         "{}: not a {} gridrt supports{}; {}",
         .path.display(),
         if *.models_only { "mesh" } else { "scene" },
         ext_note(.path),
         if *.models_only {
-            "use an .obj, .gltf or .glb model"
+            "use an .obj, .ply, .gltf or .glb model"
         } else {
-            "use a .ron scene, or an .obj, .gltf or .glb model"
+            "use a .ron scene, or an .obj, .ply, .gltf or .glb model"
         }
     )]
     UnsupportedInput {
@@ -307,6 +320,15 @@ impl Error {
         }
     }
 
+    /// A [`Error::Ply`].
+    pub(crate) fn ply(path: &Path, place: impl Into<String>, msg: impl Into<String>) -> Self {
+        Self::Ply {
+            path: path.to_path_buf(),
+            place: place.into(),
+            msg: msg.into(),
+        }
+    }
+
     /// A [`Error::Gltf`].
     pub(crate) fn gltf(path: &Path, place: impl Into<String>, msg: impl Into<String>) -> Self {
         Self::Gltf {
@@ -377,9 +399,9 @@ fn ext_note(path: &Path) -> String {
         "png" | "jpg" | "jpeg" | "ktx2" | "webp" | "exr" | "hdr" | "tga" | "bmp" => {
             ": it is an image, a texture or a render"
         }
-        "ply" | "stl" | "fbx" | "dae" | "3ds" | "blend" | "usd" | "usda" | "usdc" | "usdz"
+        "stl" | "fbx" | "dae" | "3ds" | "blend" | "usd" | "usda" | "usdc" | "usdz"
         | "off" | "x3d" | "wrl" | "abc" => {
-            ": gridrt does not read this mesh format, convert it to OBJ or glTF (Blender, MeshLab)"
+            ": gridrt does not read this mesh format, convert it to OBJ, PLY or glTF (Blender, MeshLab)"
         }
         "txt" | "md" | "license" | "licence" => ": it is a text file",
         "ron" => ": it is a scene file, which holds no mesh of its own",

@@ -1,4 +1,4 @@
-//! Everything that touches the outside world: RON scene files, OBJ and glTF
+//! Everything that touches the outside world: RON scene files, OBJ, PLY and glTF
 //! meshes, PNG and EXR images, ray-query CSV files, and the `gridrt`
 //! command-line renderer built on them.
 //!
@@ -54,11 +54,14 @@ mod aov_out;
 pub mod cli;
 #[cfg(feature = "cli")]
 mod cli_outputs;
+#[cfg(feature = "cli")]
+mod cli_view;
 mod diff;
 mod error;
 mod image_out;
 mod model;
 mod model_scene;
+mod model_view;
 mod parts;
 mod random;
 mod rays;

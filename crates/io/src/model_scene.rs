@@ -4,12 +4,13 @@
 
 use crate::error::{Error, Result};
 use crate::model::{self, to_dvec3, to_vec3, Model};
+use crate::model_view;
 use crate::scene::LoadedScene;
 use crate::schema;
 use glam::DVec3;
 use gridrt_bbox::{Aabb, Real, Vec3};
 use gridrt_tracer::{
-    Camera, Geometry, Light, Material, MaterialId, Object, Projection, Rgb, Scene, Settings,
+    Camera, Geometry, Material, MaterialId, Object, Projection, Rgb, Scene, Settings,
 };
 
 /// A perspective camera that sees the whole box: it looks at the centre from
@@ -35,10 +36,21 @@ pub fn frame(bounds: Aabb, vfov_deg: f64, aspect: f64) -> Camera {
     }
 }
 
+/// A model's mesh as rendered on its own: oriented, and smooth where the
+/// file has no normals (crease angle [`model::DEFAULT_CREASE_DEG`]).
+fn smoothed(mm: &model::ModelMesh) -> gridrt_tracer::Mesh {
+    let mut mesh = mm.oriented();
+    model::Normals::Smooth(model::Crease(model::DEFAULT_CREASE_DEG)).apply(&mut mesh);
+    mesh
+}
+
 /// Default image width of a model rendered on its own.
 const MODEL_WIDTH: u32 = 640;
 /// Default image height of a model rendered on its own.
 const MODEL_HEIGHT: u32 = 480;
+/// Default samples per pixel of a model rendered on its own: a 3 × 3
+/// stratified pattern, enough for smooth edges.
+const MODEL_SPP: u32 = 9;
 
 /// A scene that shows a model on its own: the file's camera (or one framing
 /// the model's bounds), the file's lights (or an ambient light plus a
@@ -53,7 +65,7 @@ pub fn scene_from_model(model: Model) -> LoadedScene {
         .meshes
         .iter()
         .map(|mm| Object {
-            geometry: Geometry::Mesh(Box::new(mm.oriented())),
+            geometry: Geometry::Mesh(Box::new(smoothed(mm))),
             material: mm.material.map_or_else(
                 || {
                     need_default = true;
@@ -66,7 +78,7 @@ pub fn scene_from_model(model: Model) -> LoadedScene {
     if need_default {
         materials.push(model::default_material());
     }
-    let (width, height) = match model.camera.as_ref().and_then(|c| c.aspect) {
+    let (width, height) = match model.cameras.first().and_then(|c| c.aspect) {
         Some(a) if a >= 1.0 => (
             MODEL_WIDTH,
             ((f64::from(MODEL_WIDTH) / a).round() as u32).max(1),
@@ -77,23 +89,45 @@ pub fn scene_from_model(model: Model) -> LoadedScene {
         ),
         None => (MODEL_WIDTH, MODEL_HEIGHT),
     };
-    let framed = model.camera.is_none();
-    let camera = match &model.camera {
-        Some(c) => c.camera.clone(),
-        None => frame(model.bounds(), 40.0, f64::from(width) / f64::from(height)),
-    };
-    let lights = if model.lights.is_empty() {
-        default_lights(&camera)
+    let framed = model.cameras.is_empty();
+    let bounds = model.bounds();
+    let aspect = f64::from(width) / f64::from(height);
+    let room = if framed {
+        model_view::room_opening(&model)
     } else {
-        model.lights.clone()
+        None
     };
+    let camera = match (model.cameras.first(), room) {
+        (Some(c), _) => c.camera.clone(),
+        (None, Some(open)) => model_view::room_camera(bounds, open, aspect),
+        (None, None) => frame(bounds, 40.0, aspect),
+    };
+    let lights = if !model.lights.is_empty() {
+        model.lights.clone()
+    } else if room.is_some() {
+        model_view::room_lights(bounds)
+    } else {
+        model_view::object_lights(&camera)
+    };
+    let mut objects = objects;
+    if framed && room.is_none() {
+        let (point, ground) = model_view::ground(bounds);
+        objects.push(Object {
+            geometry: Geometry::Plane {
+                point,
+                normal: Vec3::Y,
+            },
+            material: materials.len() as MaterialId,
+        });
+        materials.push(ground);
+    }
     LoadedScene {
         scene: Scene {
             camera,
             settings: Settings {
                 width,
                 height,
-                spp: 1,
+                spp: MODEL_SPP,
                 max_depth: 5,
                 background: Rgb::new(0.12, 0.13, 0.16),
             },
@@ -104,28 +138,12 @@ pub fn scene_from_model(model: Model) -> LoadedScene {
         source: model.path.clone(),
         warnings: model.warnings,
         framed_camera: framed,
+        cameras: model
+            .cameras
+            .into_iter()
+            .map(|c| (c.name, c.camera))
+            .collect(),
     }
-}
-
-/// Lights for a model without its own: a dim ambient light and a
-/// directional light from above and behind the camera's right shoulder.
-fn default_lights(camera: &Camera) -> Vec<Light> {
-    let back = to_dvec3(camera.eye - camera.look_at).normalize_or(DVec3::Z);
-    let up = to_dvec3(camera.up).normalize_or(DVec3::Y);
-    let right = up.cross(back).normalize_or(DVec3::X);
-    let toward = (back + up * 0.9 + right * 0.5).normalize_or(DVec3::Y);
-    vec![
-        Light::Ambient {
-            color: Rgb::ONE,
-            intensity: 0.25,
-        },
-        Light::Directional {
-            direction: to_vec3(toward),
-            color: Rgb::ONE,
-            intensity: 3.0,
-            shadows: true,
-        },
-    ]
 }
 
 /// Applies command-line overrides of the image size and sample count. With

@@ -34,9 +34,12 @@ pub struct LoadedScene {
     pub warnings: Vec<String>,
     /// True when the camera was placed automatically to frame the scene.
     pub framed_camera: bool,
+    /// The named cameras of a model rendered on its own (glTF), in node
+    /// order, for `--camera NAME`; empty for a scene file.
+    pub cameras: Vec<(String, Camera)>,
 }
 
-/// Reads a scene: a `.ron` scene file, or an `.obj`/`.gltf`/`.glb` model
+/// Reads a scene: a `.ron` scene file, or an `.obj`/`.ply`/`.gltf`/`.glb` model
 /// rendered on its own (see [`scene_from_model`]), reading only from the
 /// scene's folder and the working directory ([`Sandbox::for_input`]).
 ///
@@ -352,6 +355,7 @@ impl<'a> Builder<'a> {
             source: self.path.to_path_buf(),
             warnings: self.warnings,
             framed_camera: framed,
+            cameras: Vec::new(),
         })
     }
 
@@ -535,7 +539,15 @@ impl<'a> Builder<'a> {
                 transform,
                 material,
                 materials,
-            } => self.mesh(&what, file, transform, material.as_deref(), materials)?,
+                normals,
+            } => self.mesh(
+                &what,
+                file,
+                transform,
+                material.as_deref(),
+                materials,
+                *normals,
+            )?,
             ObjectDesc::RandomSpheres {
                 count,
                 seed,
@@ -595,6 +607,7 @@ impl<'a> Builder<'a> {
         transform: &[TransformDesc],
         material: Option<&str>,
         overrides: &schema::NamedMap<String>,
+        normals: model::Normals,
     ) -> Result<()> {
         let needle = format!("\"{file}\"");
         let place = |b: &Self| b.place(Some(&needle), what);
@@ -696,8 +709,10 @@ impl<'a> Builder<'a> {
                     None => self.default_material(),
                 },
             };
+            let mut mesh = mm.oriented();
+            normals.apply(&mut mesh);
             self.objects.push(Object {
-                geometry: Geometry::Mesh(Box::new(mm.oriented())),
+                geometry: Geometry::Mesh(Box::new(mesh)),
                 material: id,
             });
         }

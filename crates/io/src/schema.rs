@@ -610,7 +610,7 @@ pub(crate) enum ObjectDesc {
         #[serde(default)]
         material: Option<String>,
     },
-    /// `Mesh(file: "model.obj", transform: [...], material: "name", materials: {"file name": "scene name"})`.
+    /// `Mesh(file: "model.obj", transform: [...], material: "name", materials: {"file name": "scene name"}, normals: Smooth(60))`.
     #[serde(alias = "mesh")]
     Mesh {
         file: String,
@@ -620,6 +620,8 @@ pub(crate) enum ObjectDesc {
         material: Option<String>,
         #[serde(default)]
         materials: NamedMap<String>,
+        #[serde(default)]
+        normals: crate::model::Normals,
     },
     /// `RandomSpheres(count: 1000, seed: 15, radius: 0.01, bounds: ((-1, -1, -1), (1, 1, 1)), material: "name")`.
     #[serde(alias = "random_spheres")]

@@ -328,7 +328,7 @@ fn companion_files_are_not_scenes() {
         ("model.mtl", "OBJ material library, give the .obj"),
         ("model0.bin", "glTF buffer, give the .gltf"),
         ("albedo.PNG", "it is an image"),
-        ("bunny.ply", "convert it to OBJ or glTF"),
+        ("bunny.stl", "convert it to OBJ, PLY or glTF"),
         ("LICENSE", "the file has no extension"),
     ] {
         let p = dir.path().join(name);
@@ -342,7 +342,7 @@ fn companion_files_are_not_scenes() {
         assert!(msg.contains("not a scene gridrt supports"), "{msg}");
         assert!(msg.contains(note), "{msg}");
         assert!(
-            msg.ends_with("use a .ron scene, or an .obj, .gltf or .glb model"),
+            msg.ends_with("use a .ron scene, or an .obj, .ply, .gltf or .glb model"),
             "{msg}"
         );
     }
@@ -352,7 +352,10 @@ fn companion_files_are_not_scenes() {
         .unwrap_err()
         .to_string();
     assert!(msg.contains("not a mesh gridrt supports"), "{msg}");
-    assert!(msg.ends_with("use an .obj, .gltf or .glb model"), "{msg}");
+    assert!(
+        msg.ends_with("use an .obj, .ply, .gltf or .glb model"),
+        "{msg}"
+    );
 }
 
 /// An image or an empty file renamed to a model extension is named as such,

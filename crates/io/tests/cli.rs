@@ -412,3 +412,87 @@ fn a_cancelled_render_writes_nothing() {
     assert!(!stats.exists());
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
 }
+
+/// `--eye`, `--look-at`, `--fov` and `--max-depth` move the camera: the
+/// triangle seen from its front and from behind it differ, and a bad value
+/// is one error line naming the flag.
+#[test]
+fn camera_and_depth_flags_override_the_view() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = fixture("meshes/generated/tri.obj");
+    let run = |name: &str, extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            mesh.to_str().unwrap(),
+            "-o",
+            name,
+            "--width",
+            "20",
+            "--height",
+            "16",
+        ];
+        args.extend_from_slice(extra);
+        gridrt(&args, dir.path())
+    };
+    let o = run("a.png", &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run(
+        "b.png",
+        &[
+            "--eye",
+            "-3,-2,-6",
+            "--look-at",
+            "0,0,0",
+            "--fov",
+            "20",
+            "--max-depth",
+            "0",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let a = std::fs::read(dir.path().join("a.png")).unwrap();
+    let b = std::fs::read(dir.path().join("b.png")).unwrap();
+    assert_ne!(a, b);
+    let o = run("c.png", &["--fov", "0"]);
+    assert_one_line_error(&o, "--fov");
+    assert!(!dir.path().join("c.png").exists());
+    let o = run("c.png", &["--eye", "1,2"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
+/// `--camera NAME` picks a glTF camera by name; an unnamed one is
+/// `camera N`, and an unknown name lists the file's cameras.
+#[test]
+fn camera_flag_picks_a_gltf_camera_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = fixture("meshes/generated/hierarchy.gltf");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            model.to_str().unwrap(),
+            "-o",
+            "c.png",
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "--spp",
+            "1",
+        ];
+        args.extend_from_slice(extra);
+        gridrt(&args, dir.path())
+    };
+    let o = run(&["--camera", "camera 0"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // The model's own warnings (a points primitive, a spot light) come
+    // first; the error is the last line.
+    let o = run(&["--camera", "top"]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = stderr(&o);
+    let last = e.trim_end().lines().last().unwrap_or_default();
+    assert!(last.starts_with("error: --camera: "), "{e}");
+    assert!(
+        last.ends_with("has no camera \"top\"; its cameras are: camera 0"),
+        "{e}"
+    );
+}

@@ -134,7 +134,7 @@ fn gltf_materials_cameras_and_lights() {
         })
         .collect();
     assert_eq!(kinds, ["matte", "reflective", "emissive", "dielectric"]);
-    let cam = m.camera.as_ref().unwrap();
+    let cam = m.cameras.first().unwrap();
     assert!(close(cam.camera.eye, Vec3::new(0.0, 1.0, 8.0)));
     assert!(close(cam.camera.look_at, Vec3::new(0.0, 1.0, 7.0)));
     match cam.camera.projection {
@@ -277,4 +277,47 @@ fn obj_normals_quads_and_relative_indices() {
     assert!(mesh.normals.iter().all(|n| close(*n, Vec3::Z)));
     // No material library: every mesh gets the default material.
     assert!(m.meshes.iter().all(|x| x.material.is_none()));
+}
+
+/// A model rendered on its own: a room (the Cornell box, open at the
+/// front) is seen from inside and lit under its ceiling; an object (the
+/// teapot) is framed from outside and stands on a ground plane; both get
+/// 9 samples per pixel.
+#[test]
+fn rooms_are_seen_from_inside_and_objects_stand_on_the_ground() {
+    let room = load_scene(&fixture("meshes/cornell_box/CornellBox-Original.obj")).unwrap();
+    let b = load_model(&fixture("meshes/cornell_box/CornellBox-Original.obj"))
+        .unwrap()
+        .bounds();
+    let eye = room.scene.camera.eye;
+    assert!(b.contains(eye), "{eye} outside {b:?}");
+    assert!(eye.z > b.centroid().z, "not at the open front: {eye}");
+    assert!(room
+        .scene
+        .lights
+        .iter()
+        .any(|l| matches!(l, Light::Point { shadows: true, .. })));
+    assert!(!room
+        .scene
+        .objects
+        .iter()
+        .any(|o| matches!(o.geometry, Geometry::Plane { .. })));
+    let object = load_scene(&fixture("meshes/teapot/teapot.obj")).unwrap();
+    let b = load_model(&fixture("meshes/teapot/teapot.obj"))
+        .unwrap()
+        .bounds();
+    assert!(!b.contains(object.scene.camera.eye));
+    let ground = object
+        .scene
+        .objects
+        .iter()
+        .find_map(|o| match o.geometry {
+            Geometry::Plane { point, normal } => Some((point, normal)),
+            _ => None,
+        })
+        .expect("a ground plane");
+    assert_eq!(ground.1, Vec3::Y);
+    assert!(ground.0.y < b.min.y && ground.0.y > b.min.y - 0.01 * b.extent().y);
+    assert_eq!(object.scene.settings.spp, 9);
+    assert_eq!(room.scene.settings.spp, 9);
 }

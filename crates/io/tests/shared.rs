@@ -31,7 +31,7 @@ fn shared_models_load() {
         for f in std::fs::read_dir(&dir).unwrap() {
             let f = f.unwrap().path();
             let ext = f.extension().map(|e| e.to_string_lossy().to_lowercase());
-            if matches!(ext.as_deref(), Some("obj" | "gltf" | "glb")) {
+            if matches!(ext.as_deref(), Some("obj" | "ply" | "gltf" | "glb")) {
                 let s = load_scene(&f).unwrap_or_else(|e| panic!("{e}"));
                 assert!(!s.scene.objects.is_empty(), "{}", f.display());
                 n += 1;
@@ -116,4 +116,31 @@ fn readme_model_scenes_load() {
             (640, 480)
         );
     }
+}
+
+/// The Stanford bunny from PLY loads like its OBJ: its own PLY when the
+/// folder has one (the same vertex count and bounds), else the OBJ written
+/// as binary PLY (the same triangles, corner for corner).
+#[test]
+fn bunny_from_ply_loads_like_its_obj() {
+    use crate::ply::{corners, to_ply, Encoding};
+    let Some(root) = shared_scenes() else { return };
+    let dir = root.join("bunny");
+    let obj = load_model(&dir.join("stanford-bunny.obj")).unwrap();
+    let own = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|f| f.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("ply")));
+    if let Some(own) = own {
+        let ply = load_model(&own).unwrap();
+        let (a, b) = (ply.bounds(), obj.bounds());
+        assert!((a.min - b.min).abs().max_element() < 1e-3, "{a:?} {b:?}");
+        assert!((a.max - b.max).abs().max_element() < 1e-3, "{a:?} {b:?}");
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("bunny.ply");
+    std::fs::write(&path, to_ply(&obj, Encoding::Little)).unwrap();
+    let ply = load_model(&path).unwrap();
+    assert_eq!(ply.triangle_count(), obj.triangle_count());
+    assert_eq!(corners(&ply), corners(&obj));
 }

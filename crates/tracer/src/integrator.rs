@@ -421,7 +421,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
                     ts,
                 );
                 if REFLECT && depth < tr.data.max_depth && kr != 0.0 {
-                    let wr = reflect(wo, ns);
+                    let wr = on_side(reflect(wo, secondary_ns(ng, ns, wo)), ng, ns, true);
                     let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wr);
                     ts.counts.reflection += 1;
                     l += cr * kr * Self::li(tr, &Ray::new(origin, wr), depth + 1, ts).color;
@@ -457,6 +457,45 @@ fn face_forward(ng: Vec3, ns: Vec3, wo: Vec3) -> (Vec3, Vec3) {
     } else {
         (ng, ns)
     }
+}
+
+/// The shading normal for a secondary ray: `ns`, or `ng` when `wo` lies
+/// below `ns` (a smooth normal tilted away from a grazing view), so that
+/// the mirror direction is well defined. Both are on `wo`'s side of the
+/// geometric surface.
+#[inline]
+fn secondary_ns(ng: Vec3, ns: Vec3, wo: Vec3) -> Vec3 {
+    if ns.dot(wo) > 0.0 {
+        ns
+    } else {
+        ng
+    }
+}
+
+/// `w` on the given side of the geometric surface (`above`: the side `ng`
+/// points to): unchanged when it is, else mirrored across the surface's
+/// plane. A direction that a shading normal `ns` bends through the surface
+/// would leak light from the other side; mirroring keeps it on the side
+/// the reflection or refraction belongs to. Where `ns` is `ng` (flat
+/// surfaces, spheres) the direction is on its side by construction, up to
+/// rounding at grazing angles, and is left as it is.
+#[inline]
+fn on_side(w: Vec3, ng: Vec3, ns: Vec3, above: bool) -> Vec3 {
+    if ns == ng {
+        return w;
+    }
+    let c = w.dot(ng);
+    if (c > 0.0) == above && c != 0.0 {
+        return w;
+    }
+    let m = w - ng * (2.0 * c);
+    // Grazing (c = 0): nudge off the plane to the wanted side.
+    let m = if m.dot(ng) == 0.0 {
+        m + if above { ng } else { -ng } * 1e-3
+    } else {
+        m
+    };
+    m.normalize()
 }
 
 /// The parameter end of a shadow ray towards a point light at `t = 1`:
@@ -514,7 +553,9 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
                 DirectLight::Directional { dir, radiance, .. } => (dir, radiance),
             };
             let cos = ns.dot(wi);
-            if !(cos > 0.0) {
+            // The geometric normal decides the side (pbrt's rule): a light
+            // below the surface lights nothing, whatever the shading normal.
+            if !(cos > 0.0) || !(ng.dot(wi) > 0.0) {
                 continue;
             }
             if SHADOWS {
@@ -571,13 +612,15 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
             return Rgb::ZERO;
         }
         let ior = ior as Real;
-        let entering = sh.ns.dot(wo) > 0.0;
+        // The geometric normal decides inside and outside.
+        let entering = sh.sp.n.dot(wo) > 0.0;
         // Normals on the side of wo; eta = η_far / η_near.
         let (ns, ng, eta) = if entering {
             (sh.ns, sh.sp.n, ior)
         } else {
             (-sh.ns, -sh.sp.n, 1.0 / ior)
         };
+        let ns = secondary_ns(ng, ns, wo);
         let cos_i = ns.dot(wo);
         let fr = to_f32(fresnel_dielectric(cos_i, eta));
         // Beer's law for the part of a ray that runs inside.
@@ -590,7 +633,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
         };
         let mut l = Rgb::ZERO;
         if REFLECT && fr > 0.0 {
-            let wr = reflect(wo, ns);
+            let wr = on_side(reflect(wo, ns), ng, ns, true);
             let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wr);
             ts.counts.reflection += 1;
             let li = Self::li(tr, &Ray::new(origin, wr), depth + 1, ts);
@@ -599,6 +642,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
         }
         if fr < 1.0 {
             if let Some(wt) = refract(wo, ns, eta) {
+                let wt = on_side(wt, ng, ns, false);
                 let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wt);
                 ts.counts.refraction += 1;
                 let li = Self::li(tr, &Ray::new(origin, wt), depth + 1, ts);

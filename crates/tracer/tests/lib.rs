@@ -16,6 +16,7 @@ mod plan;
 mod precision;
 mod progress;
 mod rows;
+mod shading_normals;
 mod suffern;
 mod ties;
 mod watertight;

@@ -72,7 +72,7 @@ pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) ->
             .file_name()
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
         meshes: Vec::new(),
-        camera: None,
+        cameras: Vec::new(),
         lights: Vec::new(),
         warnings,
         stack: Vec::new(),
@@ -118,7 +118,7 @@ pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) ->
         path: path.to_path_buf(),
         meshes: loader.meshes,
         materials,
-        camera: loader.camera,
+        cameras: loader.cameras,
         lights: loader.lights,
         warnings: loader.warnings,
     })
@@ -287,7 +287,7 @@ struct Loader<'a> {
     buffers: &'a [Vec<u8>],
     file_name: String,
     meshes: Vec<ModelMesh>,
-    camera: Option<ModelCamera>,
+    cameras: Vec<ModelCamera>,
     lights: Vec<Light>,
     warnings: Vec<String>,
     /// Nodes on the current path, to detect cycles.
@@ -389,10 +389,8 @@ impl Loader<'_> {
                 self.primitive(&prim, &world, &place, &mesh, node)?;
             }
         }
-        if let Some(cam) = node.camera() {
-            if self.camera.is_none() {
-                self.camera = camera(&cam, &world);
-            }
+        if let Some(cam) = node.camera().and_then(|c| camera(&c, &world)) {
+            self.cameras.push(cam);
         }
         self.light(node, &world);
         for child in node.children() {
@@ -602,6 +600,9 @@ fn camera(cam: &gltf::Camera, world: &DMat4) -> Option<ModelCamera> {
         }
     };
     Some(ModelCamera {
+        name: cam
+            .name()
+            .map_or_else(|| format!("camera {}", cam.index()), str::to_string),
         camera: Camera {
             eye: to_vec3(eye),
             look_at: to_vec3(eye + fwd),

@@ -1,13 +1,17 @@
-//! Models read from mesh files (OBJ through tobj, glTF 2.0 through gltf):
+//! Models read from mesh files (OBJ through tobj, PLY through ply-rs-bw,
+//! glTF 2.0 through gltf):
 //! triangle meshes in the file's world space, with the file's materials and,
 //! for glTF, its cameras and lights.
 
 pub(crate) mod base64;
 mod gltf;
 mod gltf_graph;
+mod normals;
 mod obj;
+mod ply;
 
 pub(crate) use self::gltf::SPOT_WARNING;
+pub use self::normals::{Crease, Normals, DEFAULT_CREASE_DEG};
 use crate::error::{Error, Result};
 use crate::sandbox::Sandbox;
 use glam::{DMat3, DMat4, DVec3};
@@ -22,6 +26,8 @@ pub enum ModelFormat {
     Obj,
     /// glTF 2.0, `.gltf` (JSON with external or embedded buffers) or `.glb`.
     Gltf,
+    /// Stanford PLY, ASCII or binary (little or big endian).
+    Ply,
 }
 
 impl ModelFormat {
@@ -32,6 +38,7 @@ impl ModelFormat {
         match ext.as_str() {
             "obj" => Some(Self::Obj),
             "gltf" | "glb" => Some(Self::Gltf),
+            "ply" => Some(Self::Ply),
             _ => None,
         }
     }
@@ -48,8 +55,8 @@ pub struct Model {
     /// The file's materials, converted (see `docs/scene-format.md` for the
     /// mapping), in file order.
     pub materials: Vec<NamedMaterial>,
-    /// The first camera in node order (glTF only).
-    pub camera: Option<ModelCamera>,
+    /// The cameras in node order (glTF only): the first is the default view.
+    pub cameras: Vec<ModelCamera>,
     /// The file's lights (glTF `KHR_lights_punctual`; spot lights become point lights).
     pub lights: Vec<Light>,
     /// Things skipped or approximated while reading (points and lines,
@@ -97,13 +104,16 @@ pub struct NamedMaterial {
 /// A camera found in a model file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModelCamera {
+    /// The file's name for it (unnamed glTF cameras get `camera N`, N the
+    /// camera's index), for `--camera NAME`.
+    pub name: String,
     /// The camera in world space.
     pub camera: Camera,
     /// Width / height, when the file gives one.
     pub aspect: Option<f64>,
 }
 
-/// Reads an OBJ or glTF file (by extension), reading only from its own
+/// Reads an OBJ, PLY or glTF file (by extension), reading only from its own
 /// folder and the working directory (see [`load_model_in`]).
 ///
 /// # Errors
@@ -112,7 +122,7 @@ pub fn load_model(path: &Path) -> Result<Model> {
     load_model_in(path, &Sandbox::for_input(path))
 }
 
-/// Reads an OBJ or glTF file (by extension) under a [`Sandbox`]: the file
+/// Reads an OBJ, PLY or glTF file (by extension) under a [`Sandbox`]: the file
 /// itself is read as named (it must be a regular file within the size
 /// limit); the files it names (`mtllib`, buffers) only from its own folder
 /// and the sandbox's explicitly allowed folders.
@@ -121,7 +131,7 @@ pub fn load_model(path: &Path) -> Result<Model> {
 /// [`Error::UnsupportedInput`] for another extension, [`Error::Read`] /
 /// [`Error::NotRegular`] when the file cannot be read, [`Error::Denied`]
 /// for a reference outside the allowed folders, [`Error::Limit`] over a
-/// budget, [`Error::Obj`] / [`Error::Gltf`] when it is malformed or holds
+/// budget, [`Error::Obj`] / [`Error::Ply`] / [`Error::Gltf`] when it is malformed or holds
 /// no triangles.
 pub fn load_model_in(path: &Path, sandbox: &Sandbox) -> Result<Model> {
     if ModelFormat::from_path(path).is_none() {
@@ -141,6 +151,7 @@ pub(crate) fn load_resolved(path: &Path, real: &Path, sandbox: &Sandbox) -> Resu
     match ModelFormat::from_path(path) {
         Some(ModelFormat::Obj) => obj::load(path, real, &bytes, sandbox),
         Some(ModelFormat::Gltf) => gltf::load(path, real, &bytes, sandbox),
+        Some(ModelFormat::Ply) => ply::load(path, &bytes, sandbox),
         None => Err(Error::UnsupportedInput {
             path: path.to_path_buf(),
             models_only: true,
@@ -186,7 +197,7 @@ impl Model {
                 .map_err(|e| format!("mesh {i} \"{}\": {e}", mm.mesh.name))?;
             mm.mirrored ^= xf.mirrors;
         }
-        if let Some(c) = &mut self.camera {
+        for c in &mut self.cameras {
             c.camera.eye = to_vec3(xf.m.transform_point3(to_dvec3(c.camera.eye)));
             c.camera.look_at = to_vec3(xf.m.transform_point3(to_dvec3(c.camera.look_at)));
             c.camera.up = to_vec3(xf.m.transform_vector3(to_dvec3(c.camera.up)));
@@ -370,7 +381,7 @@ mod tests {
                 mirrored: false,
             }],
             materials: vec![],
-            camera: None,
+            cameras: vec![],
             lights: vec![],
             warnings: vec![],
         };

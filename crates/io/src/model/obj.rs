@@ -121,7 +121,7 @@ pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) ->
         path: path.to_path_buf(),
         meshes,
         materials,
-        camera: None,
+        cameras: Vec::new(),
         lights: Vec::new(),
         warnings,
     })
