@@ -307,6 +307,8 @@ impl<'a> Builder<'a> {
             spp: s.spp.0,
             max_depth: s.max_depth.0,
             background: model::rgb(s.background.0),
+            sampler: s.sampler.kind(),
+            filter: s.filter.filter(),
         };
         let lights = file.lights.iter().map(light).collect::<Vec<_>>();
         if lights.is_empty() {

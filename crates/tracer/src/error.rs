@@ -28,6 +28,12 @@ pub enum SceneError {
     /// `spp` is 0.
     #[error("samples per pixel is 0; set spp to at least 1")]
     ZeroSamples,
+    /// The reconstruction filter's parameters are out of range.
+    #[error("settings: the filter {filter} is unusable: its radius must be in (0, 16] pixels and its sigma > 0")]
+    BadFilter {
+        /// The filter, described.
+        filter: String,
+    },
     /// A number in the settings is NaN or infinite.
     #[error("settings: the {what} is not finite; give finite numbers")]
     SettingNotFinite {

@@ -79,7 +79,7 @@ mod plan;
 mod pool;
 mod prepare;
 mod render;
-mod sampler;
+pub mod sampling;
 pub mod scene;
 #[cfg(feature = "serde")]
 mod serde_support;
@@ -93,6 +93,7 @@ pub use gridrt_grid::Accelerator;
 pub use plan::{EffectPlan, IntegratorKind, RayCounts};
 pub use prepare::{SphereSet, MAX_PIXELS};
 pub use render::{render, AccelKind, RenderOptions, RenderStats, Renderer};
+pub use sampling::{Filter, SamplerKind};
 pub use scene::{
     Camera, Geometry, Light, Material, MaterialId, Mesh, Object, Projection, Rgb, Scene, Settings,
 };

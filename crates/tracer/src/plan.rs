@@ -1,6 +1,7 @@
 //! The effect plan: which effects a scene calls for, worked out once before
 //! rendering, and the ray counts that prove unused effects cost nothing.
 
+use crate::sampling::{Filter, SamplerKind};
 use crate::scene::{Geometry, Light, Material, Scene};
 use std::fmt;
 
@@ -80,7 +81,7 @@ impl fmt::Display for IntegratorKind {
 /// New effects (area lights, depth of field, glossy reflection, path
 /// tracing) become new fields here and new type parameters of the render
 /// loop; the struct is `#[non_exhaustive]` so adding them breaks no user.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[non_exhaustive]
 pub struct EffectPlan {
@@ -88,9 +89,14 @@ pub struct EffectPlan {
     pub integrator: IntegratorKind,
     /// Samples per pixel.
     pub spp: u32,
-    /// Whether samples are jittered (stratified, correlated multi-jittered);
-    /// off at 1 spp, where the sample goes through the pixel centre.
+    /// Whether samples are spread over the pixel (by `sampler`, weighted by
+    /// `filter`); off at 1 spp, where the sample goes through the pixel
+    /// centre and no filter weight is computed.
     pub jitter: bool,
+    /// The sampler that places the samples.
+    pub sampler: SamplerKind,
+    /// The reconstruction filter (`Box` whenever `jitter` is off).
+    pub filter: Filter,
     /// Whether some ambient light reaches a material with `ka > 0`.
     pub ambient: bool,
     /// Point and directional lights evaluated at each shading point (0 when
@@ -211,6 +217,12 @@ impl EffectPlan {
             },
             spp: scene.settings.spp,
             jitter: scene.settings.spp > 1,
+            sampler: scene.settings.sampler,
+            filter: if scene.settings.spp > 1 {
+                scene.settings.filter
+            } else {
+                Filter::Box
+            },
             ambient,
             direct_lights,
             shadow_lights,
@@ -239,7 +251,11 @@ impl fmt::Display for EffectPlan {
             self.integrator, self.max_depth
         )?;
         if self.jitter {
-            writeln!(f, "samples     {} per pixel, stratified jitter", self.spp)?;
+            writeln!(
+                f,
+                "samples     {} per pixel, {} sampler, {} filter",
+                self.spp, self.sampler, self.filter
+            )?;
         } else {
             writeln!(
                 f,

@@ -203,6 +203,11 @@ fn validate(scene: &Scene, set: Option<&SphereSet>) -> Result<(usize, bool), Sce
     if s.spp == 0 {
         return Err(SceneError::ZeroSamples);
     }
+    if !s.filter.is_valid() {
+        return Err(SceneError::BadFilter {
+            filter: s.filter.describe(),
+        });
+    }
     if !s.background.is_finite() {
         return Err(SceneError::SettingNotFinite { what: "background" });
     }

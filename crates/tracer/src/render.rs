@@ -8,7 +8,7 @@ use crate::integrator::{Found, Integrator, Li, SceneData, Shading, ThreadState, 
 use crate::plan::{EffectPlan, RayCounts};
 use crate::pool::Pool;
 use crate::prepare::{prepare, Prepared, Prims, SphereSet};
-use crate::sampler::{cmj, pixel_pattern};
+use crate::sampling::{FilterTable, SampleStream, SamplerKind};
 use crate::scene::{Rgb, Scene};
 use crate::shapes::{Shape, Sphere, Surface};
 use gridrt_bbox::{Ray, Real, Vec3};
@@ -168,6 +168,7 @@ pub struct Renderer {
     width: u32,
     height: u32,
     spp: u32,
+    filter: FilterTable,
     build_time: Duration,
     grid_stats: Option<GridStats>,
     prim_count: usize,
@@ -288,10 +289,12 @@ impl Renderer {
                 (Accel::Shapes(a), s)
             }
         });
+        let filter = FilterTable::new(plan.filter);
         Ok(Renderer {
             accel,
             data,
             camera,
+            filter,
             plan,
             width,
             height,
@@ -473,6 +476,8 @@ impl Renderer {
             rows,
             cols,
             spp: self.spp,
+            sampler: self.plan.sampler,
+            filter: &self.filter,
             progress,
             cancel,
             done: AtomicU64::new(0),
@@ -521,6 +526,8 @@ impl Renderer {
             rows: &all,
             cols: (0, self.width),
             spp: 1,
+            sampler: self.plan.sampler,
+            filter: &self.filter,
             progress: &|_, _| {},
             cancel: &AtomicBool::new(false),
             done: AtomicU64::new(0),
@@ -623,6 +630,8 @@ struct Job<'a> {
     /// The image columns to render, `x0..x1`.
     cols: (u32, u32),
     spp: u32,
+    sampler: SamplerKind,
+    filter: &'a FilterTable,
     progress: &'a (dyn Fn(u64, u64) + Sync),
     cancel: &'a AtomicBool,
     done: AtomicU64,
@@ -815,18 +824,24 @@ impl Job<'_> {
             if JITTER {
                 for x in tile.x0..tile.x1 {
                     let index = u64::from(y) * u64::from(self.width) + u64::from(x);
-                    let pattern = pixel_pattern(index, 0);
                     let mut sum = Rgb::ZERO;
+                    let mut weights = 0.0f32;
                     let mut hit = false;
                     for s in 0..self.spp {
-                        let (jx, jy) = cmj(s, self.spp, pattern);
+                        let mut stream = SampleStream::new(self.sampler, index, s, self.spp);
+                        let (jx, jy, w) = self.filter.sample(stream.next_2d());
                         let ray = self.camera.ray(x, r, jx, jy);
                         ts.counts.camera += 1;
                         let li = I::li(tr, &ray, 0, ts);
-                        sum += li.color;
+                        sum += li.color * w;
+                        weights += w;
                         hit |= li.hit;
                     }
-                    pixels.push(sum / self.spp as f32);
+                    pixels.push(if weights > 0.0 {
+                        sum / weights
+                    } else {
+                        Rgb::ZERO
+                    });
                     hits += u64::from(hit);
                 }
             } else if I::BATCH {

@@ -4,6 +4,7 @@
 //! Right-handed coordinates, y up by convention of the cameras in fixtures.
 //! Colours are linear RGB (`glam::Vec3`, always f32, whatever `Real` is).
 
+use crate::sampling::{Filter, SamplerKind};
 use gridrt_bbox::{Real, Vec3};
 
 /// A linear-RGB colour (always f32).
@@ -40,6 +41,12 @@ pub struct Settings {
     pub max_depth: u32,
     /// Radiance of rays that hit nothing.
     pub background: Rgb,
+    /// How pixel samples (and, when path tracing, every other sample
+    /// dimension) are placed. Unused at 1 spp, where the sample goes
+    /// through the pixel centre.
+    pub sampler: SamplerKind,
+    /// The reconstruction filter (unused at 1 spp).
+    pub filter: Filter,
 }
 
 impl Default for Settings {
@@ -50,6 +57,8 @@ impl Default for Settings {
             spp: 1,
             max_depth: 5,
             background: Rgb::ZERO,
+            sampler: SamplerKind::default(),
+            filter: Filter::default(),
         }
     }
 }

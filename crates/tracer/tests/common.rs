@@ -60,6 +60,7 @@ pub fn empty_scene(w: u32, h: u32, eye: Vec3) -> Scene {
             spp: 1,
             max_depth: 5,
             background: Rgb::ZERO,
+            ..Settings::default()
         },
         materials: Vec::new(),
         lights: Vec::new(),
