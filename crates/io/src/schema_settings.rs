@@ -2,7 +2,7 @@
 //! reconstruction filter, depth and background, with their defaults.
 
 use crate::schema::{check_pixels, Color, Depth, Positive, Side, Spp};
-use gridrt_tracer::{Filter, SamplerKind};
+use gridrt_tracer::{Filter, IntegratorChoice, SamplerKind};
 use serde::Deserialize;
 
 /// `Settings(width: 160, height: 120, spp: 1, max_depth: 5, background: (r, g, b),
@@ -17,6 +17,9 @@ pub(crate) struct SettingsDesc {
     pub background: Color,
     pub sampler: SamplerDesc,
     pub filter: FilterDesc,
+    pub integrator: IntegratorDesc,
+    /// `None`: the integrator's default (5 for Whitted, 64 for paths).
+    pub max_depth_given: Option<Depth>,
 }
 
 /// [`SettingsDesc`] before the cross-field check (total pixel count).
@@ -29,14 +32,16 @@ struct RawSettings {
     height: Side,
     #[serde(default = "default_spp")]
     spp: Spp,
-    #[serde(default = "default_depth")]
-    max_depth: Depth,
+    #[serde(default)]
+    max_depth: Option<Depth>,
     #[serde(default = "default_background")]
     background: Color,
     #[serde(default)]
     sampler: SamplerDesc,
     #[serde(default)]
     filter: FilterDesc,
+    #[serde(default)]
+    integrator: IntegratorDesc,
 }
 
 fn default_side_w() -> Side {
@@ -64,10 +69,12 @@ impl TryFrom<RawSettings> for SettingsDesc {
             width: r.width,
             height: r.height,
             spp: r.spp,
-            max_depth: r.max_depth,
+            max_depth: r.max_depth.unwrap_or_else(default_depth),
             background: r.background,
             sampler: r.sampler,
             filter: r.filter,
+            integrator: r.integrator,
+            max_depth_given: r.max_depth,
         })
     }
 }
@@ -82,6 +89,8 @@ impl Default for SettingsDesc {
             background: default_background(),
             sampler: SamplerDesc::default(),
             filter: FilterDesc::default(),
+            integrator: IntegratorDesc::default(),
+            max_depth_given: None,
         }
     }
 }
@@ -109,6 +118,27 @@ impl SamplerDesc {
             SamplerDesc::MultiJittered => SamplerKind::MultiJittered,
             SamplerDesc::Hammersley => SamplerKind::Hammersley,
             SamplerDesc::Sobol => SamplerKind::Sobol,
+        }
+    }
+}
+
+/// `integrator: Auto | Whitted | Path`.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename = "Integrator")]
+pub(crate) enum IntegratorDesc {
+    #[default]
+    Auto,
+    Whitted,
+    Path,
+}
+
+impl IntegratorDesc {
+    /// The tracer's choice.
+    pub(crate) fn choice(self) -> IntegratorChoice {
+        match self {
+            IntegratorDesc::Auto => IntegratorChoice::Auto,
+            IntegratorDesc::Whitted => IntegratorChoice::Whitted,
+            IntegratorDesc::Path => IntegratorChoice::Path,
         }
     }
 }
@@ -192,5 +222,11 @@ mod tests {
         assert!(parse("(filter: Gaussian(radius: 0))").is_err());
         assert!(parse("(filter: Gaussian(radius: 1, sigma: -1))").is_err());
         assert!(parse("(sampler: Halton)").is_err());
+        let s = parse("(integrator: Path)").unwrap();
+        assert_eq!(s.integrator.choice(), IntegratorChoice::Path);
+        assert_eq!((s.max_depth.0, s.max_depth_given), (5, None));
+        let s = parse("(max_depth: 7)").unwrap();
+        assert_eq!(s.max_depth_given.map(|d| d.0), Some(7));
+        assert!(parse("(integrator: Bidirectional)").is_err());
     }
 }

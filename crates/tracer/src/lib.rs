@@ -69,12 +69,14 @@
 
 mod aov;
 mod camera;
+mod emitters;
 mod error;
 mod float;
 mod framebuffer;
 pub mod hard_meshes;
 mod integrator;
 pub mod optics;
+mod path;
 mod plan;
 mod pool;
 mod prepare;
@@ -95,7 +97,8 @@ pub use prepare::{SphereSet, MAX_PIXELS};
 pub use render::{render, AccelKind, RenderOptions, RenderStats, Renderer};
 pub use sampling::{Filter, SamplerKind};
 pub use scene::{
-    Camera, Geometry, Light, Material, MaterialId, Mesh, Object, Projection, Rgb, Scene, Settings,
+    Camera, Geometry, IntegratorChoice, Light, Material, MaterialId, Mesh, Object, Projection, Rgb,
+    Scene, Settings,
 };
 pub use shapes::{Cuboid, Plane, Shape, Sphere, Triangle};
 

@@ -5,7 +5,8 @@ use crate::camera::CameraModel;
 use crate::error::{Cancelled, SceneError};
 use crate::framebuffer::{Framebuffer, LiveImage, PixelRect};
 use crate::integrator::{Found, Integrator, Li, SceneData, Shading, ThreadState, Tracer, Whitted};
-use crate::plan::{EffectPlan, RayCounts};
+use crate::path::PathTracer;
+use crate::plan::{EffectPlan, IntegratorKind, RayCounts};
 use crate::pool::Pool;
 use crate::prepare::{prepare, Prepared, Prims, SphereSet};
 use crate::sampling::{FilterTable, SampleStream, SamplerKind};
@@ -563,7 +564,13 @@ impl Integrator for HitOnly {
     const BATCH: bool = false;
 
     #[inline]
-    fn li<A>(tr: &Tracer<'_, A>, ray: &Ray, _: u32, ts: &mut ThreadState<A::Scratch>) -> Li
+    fn li<A>(
+        tr: &Tracer<'_, A>,
+        ray: &Ray,
+        _: u32,
+        _: &mut SampleStream,
+        ts: &mut ThreadState<A::Scratch>,
+    ) -> Li
     where
         A: Accelerator,
         A::Prim: Surface,
@@ -581,6 +588,7 @@ impl Integrator for HitOnly {
         _: &Ray,
         hit: Option<&Shading>,
         _: u32,
+        _: &mut SampleStream,
         _: &mut ThreadState<A::Scratch>,
     ) -> Li
     where
@@ -654,6 +662,9 @@ impl Job<'_> {
         A: Accelerator,
         A::Prim: Surface,
     {
+        if plan.integrator == IntegratorKind::Path {
+            return self.pick_jitter::<A, PathTracer>(accel, data, plan);
+        }
         if plan.shadows {
             self.pick_secondary::<A, true>(accel, data, plan)
         } else {
@@ -821,7 +832,7 @@ impl Job<'_> {
         for &y in &self.rows[tile.k0..tile.k1] {
             debug_assert!(y < self.height);
             let r = self.height - 1 - y;
-            if JITTER {
+            if JITTER || I::SAMPLED {
                 for x in tile.x0..tile.x1 {
                     let index = u64::from(y) * u64::from(self.width) + u64::from(x);
                     let mut sum = Rgb::ZERO;
@@ -829,10 +840,16 @@ impl Job<'_> {
                     let mut hit = false;
                     for s in 0..self.spp {
                         let mut stream = SampleStream::new(self.sampler, index, s, self.spp);
-                        let (jx, jy, w) = self.filter.sample(stream.next_2d());
+                        let u = stream.next_2d();
+                        // At 1 spp the sample goes through the pixel centre.
+                        let (jx, jy, w) = if JITTER {
+                            self.filter.sample(u)
+                        } else {
+                            (0.5, 0.5, 1.0)
+                        };
                         let ray = self.camera.ray(x, r, jx, jy);
                         ts.counts.camera += 1;
-                        let li = I::li(tr, &ray, 0, ts);
+                        let li = I::li(tr, &ray, 0, &mut stream, ts);
                         sum += li.color * w;
                         weights += w;
                         hit |= li.hit;
@@ -861,16 +878,18 @@ impl Job<'_> {
                 ts.counts.camera += n as u64;
                 let shading: [Option<Shading>; N] =
                     std::array::from_fn(|k| found[k].map(|f| tr.shading(&rays[k], f)));
+                let mut stream = SampleStream::new(self.sampler, 0, 0, 1);
                 for k in 0..n {
-                    let li = I::shade(tr, &rays[k], shading[k].as_ref(), 0, ts);
+                    let li = I::shade(tr, &rays[k], shading[k].as_ref(), 0, &mut stream, ts);
                     pixels.push(li.color);
                     hits += u64::from(li.hit);
                 }
             } else {
+                let mut stream = SampleStream::new(self.sampler, 0, 0, 1);
                 for x in tile.x0..tile.x1 {
                     let ray = self.camera.ray(x, r, 0.5, 0.5);
                     ts.counts.camera += 1;
-                    let li = I::li(tr, &ray, 0, ts);
+                    let li = I::li(tr, &ray, 0, &mut stream, ts);
                     pixels.push(li.color);
                     hits += u64::from(li.hit);
                 }

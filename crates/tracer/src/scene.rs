@@ -47,6 +47,25 @@ pub struct Settings {
     pub sampler: SamplerKind,
     /// The reconstruction filter (unused at 1 spp).
     pub filter: Filter,
+    /// The light transport algorithm.
+    pub integrator: IntegratorChoice,
+    /// Longest path of the path tracer, in bounces (default 64; Russian
+    /// roulette ends most paths long before).
+    pub path_max_depth: u32,
+}
+
+/// Which integrator renders a scene.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum IntegratorChoice {
+    /// Path tracing when some object emits light (an area light), else
+    /// Whitted (or plain ray casting when nothing reflects or refracts).
+    #[default]
+    Auto,
+    /// Suffern's Whitted tracer: direct light from point, directional and
+    /// ambient lights, perfect mirror reflection and refraction.
+    Whitted,
+    /// Path tracing: global illumination, area lights, soft shadows.
+    Path,
 }
 
 impl Default for Settings {
@@ -59,6 +78,8 @@ impl Default for Settings {
             background: Rgb::ZERO,
             sampler: SamplerKind::default(),
             filter: Filter::default(),
+            integrator: IntegratorChoice::Auto,
+            path_max_depth: 64,
         }
     }
 }
