@@ -86,6 +86,7 @@ pub mod scene;
 #[cfg(feature = "serde")]
 mod serde_support;
 mod shapes;
+mod stats;
 pub mod suffern;
 
 pub use aov::{Aov, AovImage};
