@@ -141,6 +141,7 @@ impl PathTracer {
         ns: Vec3,
         wo: Vec3,
         lobes: &Lobes,
+        u1: Real,
         stream: &mut SampleStream,
         ts: &mut ThreadState<A::Scratch>,
     ) -> Rgb
@@ -152,7 +153,6 @@ impl PathTracer {
         let p = sh.sp.p;
         let mut l = Rgb::ZERO;
         if !data.emitters.is_empty() {
-            let u1 = stream.next_2d().0;
             let u2 = stream.next_2d();
             if let Some(ls) = data.emitters.sample(p, u1, u2) {
                 if ng.dot(ls.wi) > 0.0 {
@@ -233,9 +233,9 @@ impl PathTracer {
         wo: Vec3,
         ns: Vec3,
         ng: Vec3,
+        u: Real,
         stream: &mut SampleStream,
     ) -> Option<Bounce> {
-        let u = stream.next_2d().0;
         let u2 = stream.next_2d();
         if u < lobes.p_mirror {
             let wi = reflect(wo, ns);
@@ -421,10 +421,12 @@ impl Integrator for PathTracer {
                     }
                     let lobes = Lobes::new(diffuse, glossy, exp, mirror);
                     let (ng, ns) = face_forward(sh.sp.n, sh.ns, wo);
+                    // One pair chooses the light and the lobe.
+                    let (u_light, u_lobe) = stream.next_2d();
                     if lobes.smooth() {
-                        l += beta * Self::direct(tr, &sh, ng, ns, wo, &lobes, stream, ts);
+                        l += beta * Self::direct(tr, &sh, ng, ns, wo, &lobes, u_light, stream, ts);
                     }
-                    match Self::sample_opaque(&lobes, wo, ns, ng, stream) {
+                    match Self::sample_opaque(&lobes, wo, ns, ng, u_lobe, stream) {
                         Some(b) => (b, ng),
                         None => break,
                     }

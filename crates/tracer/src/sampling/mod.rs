@@ -66,19 +66,26 @@ impl fmt::Display for SamplerKind {
     }
 }
 
-/// A 32-bit hash of three words (Jenkins-style mixing through SplitMix64).
+/// A 32-bit mix (Wellons' `lowbias32`): cheap and well spread.
 #[inline]
-fn hash3(a: u64, b: u32, c: u32) -> u32 {
-    pixel_pattern(a ^ (u64::from(c) << 40).rotate_left(17), b)
+fn mix32(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^ (x >> 16)
 }
 
 /// The samples of one pixel sample: dimension pairs are drawn in order with
-/// [`SampleStream::next_2d`] and [`SampleStream::next_1d`].
+/// [`SampleStream::next_2d`]. The pixel's hashes are computed once, when
+/// the stream is made.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct SampleStream {
     kind: SamplerKind,
-    /// The pixel's index in the full image.
-    pixel: u64,
+    /// The first pair's pattern (the historical pixel pattern).
+    first: u32,
+    /// A hash of the pixel, the root of every other pair's seeds.
+    base: u32,
     /// Sample index in `0..n`.
     index: u32,
     /// Samples per pixel.
@@ -94,7 +101,8 @@ impl SampleStream {
         debug_assert!(index < n);
         Self {
             kind,
-            pixel,
+            first: pixel_pattern(pixel, 0),
+            base: pixel_pattern(pixel, 0x5eed),
             index,
             n,
             pair: 0,
@@ -106,61 +114,74 @@ impl SampleStream {
     pub(crate) fn next_2d(&mut self) -> (Real, Real) {
         let pair = self.pair;
         self.pair += 1;
-        sample_2d(self.kind, self.pixel, self.index, self.n, pair)
+        self.get(pair)
+    }
+
+    /// A seed for pair `pair` and purpose `c`.
+    #[inline]
+    fn seed(&self, pair: u32, c: u32) -> u32 {
+        mix32(self.base ^ pair.wrapping_mul(0x9e37_79b9) ^ c.wrapping_mul(0x85eb_ca6b))
+    }
+
+    /// Dimension pair `pair` of this sample.
+    ///
+    /// For [`SamplerKind::MultiJittered`] the first pair is exactly the
+    /// renderer's historical pixel pattern, `cmj(s, n, pixel_pattern(pixel,
+    /// 0))`, so images made with it do not change.
+    #[inline]
+    fn get(&self, pair: u32) -> (Real, Real) {
+        let (s, n, kind) = (self.index, self.n, self.kind);
+        let seed = if pair == 0 {
+            self.first
+        } else {
+            self.seed(pair, 0)
+        };
+        match kind {
+            SamplerKind::Random => (
+                randfloat(s, self.seed(pair, 1)),
+                randfloat(s, self.seed(pair, 2)),
+            ),
+            SamplerKind::Regular | SamplerKind::Jittered => {
+                let m = ((n as f64).sqrt() as u32).max(1);
+                let rows = n.div_ceil(m);
+                // A shuffled stratum per pair, so pairs are not correlated.
+                let k = if pair == 0 { s } else { permute(s, n, seed) };
+                let (jx, jy) = if kind == SamplerKind::Regular {
+                    (0.5, 0.5)
+                } else {
+                    (
+                        randfloat(s, seed.wrapping_mul(0x967a_889b)),
+                        randfloat(s, seed.wrapping_mul(0x368c_c8b7)),
+                    )
+                };
+                let x = (((k % m) as Real + jx) / m as Real).min(ONE_MINUS_ULP);
+                let y = (((k / m) as Real + jy) / rows as Real).min(ONE_MINUS_ULP);
+                (x, y)
+            }
+            SamplerKind::MultiJittered => cmj(s, n, seed),
+            SamplerKind::Hammersley => {
+                let k = permute(s, n, seed);
+                // One shift per pixel and pair (a Cranley-Patterson rotation).
+                let shift = randfloat(0, seed.wrapping_mul(0x68bc_21eb));
+                let mut x = k as Real / n as Real + shift;
+                if x >= 1.0 {
+                    x -= 1.0;
+                }
+                let y = sobol::to_unit(k.reverse_bits() ^ seed.wrapping_mul(0x02e5_be93));
+                (x.min(ONE_MINUS_ULP), y)
+            }
+            SamplerKind::Sobol => {
+                let k = permute(s, n, seed);
+                sobol::sobol_2d(k, self.seed(pair, 0x50b0), self.seed(pair, 0x50b1))
+            }
+        }
     }
 }
 
 /// Dimension pair `pair` of sample `s` of `n` of pixel `pixel`.
-///
-/// For [`SamplerKind::MultiJittered`] the first pair is exactly the
-/// renderer's historical pixel pattern, `cmj(s, n, pixel_pattern(pixel, 0))`,
-/// so images made with it do not change.
-#[inline]
+#[cfg(test)]
 pub(crate) fn sample_2d(kind: SamplerKind, pixel: u64, s: u32, n: u32, pair: u32) -> (Real, Real) {
-    let seed = if pair == 0 {
-        pixel_pattern(pixel, 0)
-    } else {
-        hash3(pixel, pair, 0x5eed)
-    };
-    match kind {
-        SamplerKind::Random => (
-            randfloat(s, hash3(pixel, pair, 1)),
-            randfloat(s, hash3(pixel, pair, 2)),
-        ),
-        SamplerKind::Regular | SamplerKind::Jittered => {
-            let m = ((n as f64).sqrt() as u32).max(1);
-            let rows = n.div_ceil(m);
-            // A shuffled stratum per pair, so pairs are not correlated.
-            let k = if pair == 0 { s } else { permute(s, n, seed) };
-            let (jx, jy) = if kind == SamplerKind::Regular {
-                (0.5, 0.5)
-            } else {
-                (
-                    randfloat(s, seed.wrapping_mul(0x967a_889b)),
-                    randfloat(s, seed.wrapping_mul(0x368c_c8b7)),
-                )
-            };
-            let x = (((k % m) as Real + jx) / m as Real).min(ONE_MINUS_ULP);
-            let y = (((k / m) as Real + jy) / rows as Real).min(ONE_MINUS_ULP);
-            (x, y)
-        }
-        SamplerKind::MultiJittered => cmj(s, n, seed),
-        SamplerKind::Hammersley => {
-            let k = permute(s, n, seed);
-            // One shift per pixel and pair (a Cranley-Patterson rotation).
-            let shift = randfloat(0, seed.wrapping_mul(0x68bc_21eb));
-            let mut x = k as Real / n as Real + shift;
-            if x >= 1.0 {
-                x -= 1.0;
-            }
-            let y = sobol::to_unit(k.reverse_bits() ^ seed.wrapping_mul(0x02e5_be93));
-            (x.min(ONE_MINUS_ULP), y)
-        }
-        SamplerKind::Sobol => {
-            let k = permute(s, n, seed);
-            sobol::sobol_2d(k, hash3(pixel, pair, 0x50b0), hash3(pixel, pair, 0x50b1))
-        }
-    }
+    SampleStream::new(kind, pixel, s, n).get(pair)
 }
 
 #[cfg(test)]
