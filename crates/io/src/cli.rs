@@ -1,6 +1,7 @@
 //! The `gridrt` command line: argument definitions (clap) and the commands.
 //! `src/main.rs` only parses, calls [`run`] and turns an error into one line.
 
+pub use crate::cli_effects::{EffectArgs, SamplerArg};
 use crate::cli_outputs::{
     pass_paths, render_part, render_watched, save_interrupted, stage_rendered, Rendered,
 };
@@ -97,6 +98,9 @@ pub struct RenderArgs {
     /// Partial images.
     #[command(flatten)]
     pub partial: PartialArgs,
+    /// Sampler and filter.
+    #[command(flatten)]
+    pub effects: EffectArgs,
     /// Accelerator options.
     #[command(flatten)]
     pub accel: AccelArgs,
@@ -427,6 +431,7 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     warn(&loaded.warnings);
     apply_overrides(&mut loaded.scene.settings, a.width, a.height, a.spp)?;
     a.view.apply(&mut loaded)?;
+    a.effects.apply(&mut loaded.scene.settings);
     let options = a.accel.options(a.threads);
     let renderer = Renderer::new(&loaded.scene, &options).map_err(|e| Error::Render {
         path: loaded.source.clone(),

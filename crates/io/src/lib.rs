@@ -52,6 +52,7 @@
 mod aov_out;
 #[cfg(feature = "cli")]
 pub mod cli;
+mod cli_effects;
 #[cfg(feature = "cli")]
 mod cli_outputs;
 #[cfg(feature = "cli")]
@@ -69,6 +70,7 @@ mod ron_text;
 mod sandbox;
 mod scene;
 mod schema;
+mod schema_settings;
 
 pub use aov_out::{
     aov_png_path, parse_aovs, stage_aov_pngs, stage_exr_with_aovs, write_aov_pngs,

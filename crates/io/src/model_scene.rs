@@ -130,6 +130,7 @@ pub fn scene_from_model(model: Model) -> LoadedScene {
                 spp: MODEL_SPP,
                 max_depth: 5,
                 background: Rgb::new(0.12, 0.13, 0.16),
+                ..Settings::default()
             },
             materials,
             lights,

@@ -310,11 +310,17 @@ impl<'a> Builder<'a> {
             spp: s.spp.0,
             max_depth: s.max_depth.0,
             background: model::rgb(s.background.0),
+            sampler: s.sampler.kind(),
+            filter: s.filter.filter(),
+            integrator: s.integrator.choice(),
+            path_max_depth: s
+                .max_depth_given
+                .map_or(Settings::default().path_max_depth, |d| d.0),
         };
         let lights = file.lights.iter().map(light).collect::<Vec<_>>();
         if lights.is_empty() {
             self.warnings.push(format!(
-                "{}: the scene has no lights: only emissive materials will show",
+                "{}: the scene has no lights: only emissive objects will light it (path tracing) or show (Whitted)",
                 self.path.display()
             ));
         }

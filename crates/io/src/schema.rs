@@ -22,6 +22,8 @@ pub(crate) const MAX_DEPTH: u32 = 64;
 /// Most spheres one `RandomSpheres` may generate.
 pub(crate) const MAX_RANDOM_SPHERES: u32 = 10_000_000;
 
+pub(crate) use crate::schema_settings::SettingsDesc;
+
 // ---------------------------------------------------------------------------
 // Checked scalars and vectors.
 
@@ -377,76 +379,6 @@ impl Default for ProjectionDesc {
 
 fn one() -> Positive {
     Positive(1.0)
-}
-
-/// `Settings(width: 160, height: 120, spp: 1, max_depth: 5, background: (r, g, b))`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
-#[serde(try_from = "RawSettings")]
-pub(crate) struct SettingsDesc {
-    pub width: Side,
-    pub height: Side,
-    pub spp: Spp,
-    pub max_depth: Depth,
-    pub background: Color,
-}
-
-/// [`SettingsDesc`] before the cross-field check (total pixel count).
-#[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields, rename = "Settings")]
-struct RawSettings {
-    #[serde(default = "default_side_w")]
-    width: Side,
-    #[serde(default = "default_side_h")]
-    height: Side,
-    #[serde(default = "default_spp")]
-    spp: Spp,
-    #[serde(default = "default_depth")]
-    max_depth: Depth,
-    #[serde(default = "default_background")]
-    background: Color,
-}
-
-fn default_side_w() -> Side {
-    Side(gridrt_tracer::Settings::default().width)
-}
-fn default_side_h() -> Side {
-    Side(gridrt_tracer::Settings::default().height)
-}
-fn default_spp() -> Spp {
-    Spp(gridrt_tracer::Settings::default().spp)
-}
-fn default_depth() -> Depth {
-    Depth(gridrt_tracer::Settings::default().max_depth)
-}
-fn default_background() -> Color {
-    let b = gridrt_tracer::Settings::default().background;
-    Color([f64::from(b.x), f64::from(b.y), f64::from(b.z)])
-}
-
-impl TryFrom<RawSettings> for SettingsDesc {
-    type Error = String;
-    fn try_from(r: RawSettings) -> Result<Self, String> {
-        check_pixels(r.width.0, r.height.0)?;
-        Ok(Self {
-            width: r.width,
-            height: r.height,
-            spp: r.spp,
-            max_depth: r.max_depth,
-            background: r.background,
-        })
-    }
-}
-
-impl Default for SettingsDesc {
-    fn default() -> Self {
-        Self {
-            width: default_side_w(),
-            height: default_side_h(),
-            spp: default_spp(),
-            max_depth: default_depth(),
-            background: default_background(),
-        }
-    }
 }
 
 /// Materials (Suffern's ray-cast and Whitted chapters).

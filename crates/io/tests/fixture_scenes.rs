@@ -24,8 +24,15 @@ fn every_fixture_scene_parses_and_builds() {
         let loaded = load_scene(&f).unwrap_or_else(|e| panic!("{e}"));
         let s = &loaded.scene.settings;
         let name = f.file_name().unwrap().to_string_lossy().into_owned();
-        // The speed-up table's scenes (xtask's) are big: parsing is enough here.
+        // The speed-up table's scenes (xtask's) are big: parsing is enough
+        // here. The Cornell box is 256×256 as its reference comparison
+        // specifies; it only builds here.
         if name.starts_with("speedup") {
+            continue;
+        }
+        if name == "cornell-box.ron" {
+            Renderer::new(&loaded.scene, &RenderOptions::default())
+                .unwrap_or_else(|e| panic!("{}: {e}", f.display()));
             continue;
         }
         assert!(

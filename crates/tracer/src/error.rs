@@ -28,6 +28,15 @@ pub enum SceneError {
     /// `spp` is 0.
     #[error("samples per pixel is 0; set spp to at least 1")]
     ZeroSamples,
+    /// The scene asks for path tracing, but nothing in it emits light.
+    #[error("the scene asks for path tracing (integrator: Path), but nothing emits light: give a material Emissive(...) to some object, add a light, or set a non-black background")]
+    NothingEmits,
+    /// The reconstruction filter's parameters are out of range.
+    #[error("settings: the filter {filter} is unusable: its radius must be in (0, 16] pixels and its sigma > 0")]
+    BadFilter {
+        /// The filter, described.
+        filter: String,
+    },
     /// A number in the settings is NaN or infinite.
     #[error("settings: the {what} is not finite; give finite numbers")]
     SettingNotFinite {

@@ -1,9 +1,11 @@
 //! Light transport: the shading data of a prepared scene and the Whitted
 //! integrator, specialised at compile time on the effects of the plan.
 
+use crate::emitters::Emitters;
 use crate::float::{offset_ray_origin, to_f32};
 use crate::optics::{fresnel_dielectric, reflect, refract};
 use crate::plan::RayCounts;
+use crate::sampling::SampleStream;
 use crate::scene::{Material, Rgb};
 use crate::shapes::{Plane, Surface, SurfacePoint};
 use gridrt_bbox::{gamma, Ray, Real, Vec3};
@@ -94,6 +96,10 @@ pub(crate) struct SceneData {
     pub lights: Vec<DirectLight>,
     pub background: Rgb,
     pub max_depth: u32,
+    /// The area lights (path tracing only; empty otherwise).
+    pub emitters: Emitters,
+    /// Longest path of the path tracer, in bounces.
+    pub path_depth: u32,
 }
 
 /// What a ray found: a grid primitive or a plane.
@@ -139,13 +145,13 @@ pub(crate) struct Li {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Shading {
     /// Ray parameter of the hit.
-    t: Real,
-    sp: SurfacePoint,
-    material: u32,
+    pub(crate) t: Real,
+    pub(crate) sp: SurfacePoint,
+    pub(crate) material: u32,
     /// Shading normal (interpolated for smooth meshes), outward.
-    ns: Vec3,
+    pub(crate) ns: Vec3,
     /// The primitive's own colour, replacing the material's albedo.
-    albedo: Option<Rgb>,
+    pub(crate) albedo: Option<Rgb>,
 }
 
 impl Shading {
@@ -211,7 +217,7 @@ where
 
     /// Whether anything lies on the ray within `[0, t_max]`.
     #[inline]
-    fn occluded(&self, ray: &Ray, t_max: Real, scratch: &mut A::Scratch) -> bool {
+    pub(crate) fn occluded(&self, ray: &Ray, t_max: Real, scratch: &mut A::Scratch) -> bool {
         self.accel.any_hit(ray, 0.0, t_max, scratch)
             || self
                 .data
@@ -294,8 +300,18 @@ pub(crate) trait Integrator {
     /// calls [`Integrator::li`] per ray.
     const BATCH: bool;
 
+    /// Whether it draws random numbers from the pixel sample's stream (the
+    /// render loop then gives every sample its own stream, even at 1 spp).
+    const SAMPLED: bool = false;
+
     /// Radiance arriving along `ray` (`depth` secondary bounces so far).
-    fn li<A>(tr: &Tracer<'_, A>, ray: &Ray, depth: u32, ts: &mut ThreadState<A::Scratch>) -> Li
+    fn li<A>(
+        tr: &Tracer<'_, A>,
+        ray: &Ray,
+        depth: u32,
+        stream: &mut SampleStream,
+        ts: &mut ThreadState<A::Scratch>,
+    ) -> Li
     where
         A: Accelerator,
         A::Prim: Surface;
@@ -306,6 +322,7 @@ pub(crate) trait Integrator {
         ray: &Ray,
         hit: Option<&Shading>,
         depth: u32,
+        stream: &mut SampleStream,
         ts: &mut ThreadState<A::Scratch>,
     ) -> Li
     where
@@ -326,7 +343,13 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
     const BATCH: bool = true;
 
     #[inline]
-    fn li<A>(tr: &Tracer<'_, A>, ray: &Ray, depth: u32, ts: &mut ThreadState<A::Scratch>) -> Li
+    fn li<A>(
+        tr: &Tracer<'_, A>,
+        ray: &Ray,
+        depth: u32,
+        stream: &mut SampleStream,
+        ts: &mut ThreadState<A::Scratch>,
+    ) -> Li
     where
         A: Accelerator,
         A::Prim: Surface,
@@ -334,7 +357,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
         let hit = tr
             .closest(ray, Real::INFINITY, &mut ts.scratch)
             .map(|f| tr.shading(ray, f));
-        Self::shade(tr, ray, hit.as_ref(), depth, ts)
+        Self::shade(tr, ray, hit.as_ref(), depth, stream, ts)
     }
 
     fn shade<A>(
@@ -342,6 +365,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
         ray: &Ray,
         hit: Option<&Shading>,
         depth: u32,
+        stream: &mut SampleStream,
         ts: &mut ThreadState<A::Scratch>,
     ) -> Li
     where
@@ -424,13 +448,13 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
                     let wr = on_side(reflect(wo, secondary_ns(ng, ns, wo)), ng, ns, true);
                     let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wr);
                     ts.counts.reflection += 1;
-                    l += cr * kr * Self::li(tr, &Ray::new(origin, wr), depth + 1, ts).color;
+                    l += cr * kr * Self::li(tr, &Ray::new(origin, wr), depth + 1, stream, ts).color;
                 }
                 l
             }
             Material::Dielectric { ior, tint } => {
                 if REFRACT {
-                    Self::dielectric(tr, sh, wo, ior, tint, depth, ts)
+                    Self::dielectric(tr, sh, wo, ior, tint, depth, stream, ts)
                 } else {
                     // The plan leaves refraction out only when max_depth is 0
                     // (or no dielectric is in use): glass is then black, as at
@@ -451,7 +475,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
 /// Turns the geometric normal to the side of `wo` and the shading normal
 /// with it (opaque surfaces are two-sided).
 #[inline]
-fn face_forward(ng: Vec3, ns: Vec3, wo: Vec3) -> (Vec3, Vec3) {
+pub(crate) fn face_forward(ng: Vec3, ns: Vec3, wo: Vec3) -> (Vec3, Vec3) {
     if ng.dot(wo) < 0.0 {
         (-ng, -ns)
     } else {
@@ -501,7 +525,7 @@ fn on_side(w: Vec3, ng: Vec3, ns: Vec3, above: bool) -> Vec3 {
 /// The parameter end of a shadow ray towards a point light at `t = 1`:
 /// just short of it by a bound on the rounding of the ray (no fixed epsilon).
 #[inline]
-fn point_shadow_t_max() -> Real {
+pub(crate) fn point_shadow_t_max() -> Real {
     1.0 - gamma(16)
 }
 
@@ -594,6 +618,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
     /// A smooth dielectric: Fresnel-weighted reflection and refraction,
     /// total internal reflection, radiance scaled by `1/η²` on refraction
     /// (Suffern's `FresnelTransmitter`) and Beer's law inside.
+    #[allow(clippy::too_many_arguments)]
     #[inline]
     fn dielectric<A>(
         tr: &Tracer<'_, A>,
@@ -602,6 +627,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
         ior: f32,
         tint: Rgb,
         depth: u32,
+        stream: &mut SampleStream,
         ts: &mut ThreadState<A::Scratch>,
     ) -> Rgb
     where
@@ -636,7 +662,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
             let wr = on_side(reflect(wo, ns), ng, ns, true);
             let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wr);
             ts.counts.reflection += 1;
-            let li = Self::li(tr, &Ray::new(origin, wr), depth + 1, ts);
+            let li = Self::li(tr, &Ray::new(origin, wr), depth + 1, stream, ts);
             // A reflection from the inside stays inside.
             l += fr * if entering { li.color } else { absorb(li) };
         }
@@ -645,7 +671,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
                 let wt = on_side(wt, ng, ns, false);
                 let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wt);
                 ts.counts.refraction += 1;
-                let li = Self::li(tr, &Ray::new(origin, wt), depth + 1, ts);
+                let li = Self::li(tr, &Ray::new(origin, wt), depth + 1, stream, ts);
                 let scale = (1.0 - fr) / to_f32(eta * eta);
                 l += scale * if entering { absorb(li) } else { li.color };
             }

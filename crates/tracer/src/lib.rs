@@ -69,21 +69,24 @@
 
 mod aov;
 mod camera;
+mod emitters;
 mod error;
 mod float;
 mod framebuffer;
 pub mod hard_meshes;
 mod integrator;
 pub mod optics;
+mod path;
 mod plan;
 mod pool;
 mod prepare;
 mod render;
-mod sampler;
+pub mod sampling;
 pub mod scene;
 #[cfg(feature = "serde")]
 mod serde_support;
 mod shapes;
+mod stats;
 pub mod suffern;
 
 pub use aov::{Aov, AovImage};
@@ -93,8 +96,10 @@ pub use gridrt_grid::Accelerator;
 pub use plan::{EffectPlan, IntegratorKind, RayCounts};
 pub use prepare::{SphereSet, MAX_PIXELS};
 pub use render::{render, AccelKind, RenderOptions, RenderStats, Renderer};
+pub use sampling::{Filter, SamplerKind};
 pub use scene::{
-    Camera, Geometry, Light, Material, MaterialId, Mesh, Object, Projection, Rgb, Scene, Settings,
+    Camera, Geometry, IntegratorChoice, Light, Material, MaterialId, Mesh, Object, Projection, Rgb,
+    Scene, Settings,
 };
 pub use shapes::{Cuboid, Plane, Shape, Sphere, Triangle};
 

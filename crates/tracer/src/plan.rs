@@ -1,7 +1,8 @@
 //! The effect plan: which effects a scene calls for, worked out once before
 //! rendering, and the ray counts that prove unused effects cost nothing.
 
-use crate::scene::{Geometry, Light, Material, Scene};
+use crate::sampling::{Filter, SamplerKind};
+use crate::scene::{Geometry, IntegratorChoice, Light, Material, Scene};
 use std::fmt;
 
 /// Rays traced, by kind. Counted per tile and summed, so counting costs no
@@ -17,6 +18,12 @@ pub struct RayCounts {
     pub reflection: u64,
     /// Rays refracted through dielectrics.
     pub refraction: u64,
+    /// Shadow rays towards points sampled on area lights (path tracing).
+    pub light_sample: u64,
+    /// Rays sampled from a glossy (Phong) lobe (path tracing).
+    pub glossy: u64,
+    /// Diffuse bounce rays: indirect light (path tracing).
+    pub indirect: u64,
 }
 
 impl RayCounts {
@@ -24,7 +31,13 @@ impl RayCounts {
     #[inline]
     #[must_use]
     pub fn total(&self) -> u64 {
-        self.camera + self.shadow + self.reflection + self.refraction
+        self.camera
+            + self.shadow
+            + self.reflection
+            + self.refraction
+            + self.light_sample
+            + self.glossy
+            + self.indirect
     }
 }
 
@@ -34,6 +47,9 @@ impl std::ops::AddAssign for RayCounts {
         self.shadow += o.shadow;
         self.reflection += o.reflection;
         self.refraction += o.refraction;
+        self.light_sample += o.light_sample;
+        self.glossy += o.glossy;
+        self.indirect += o.indirect;
     }
 }
 
@@ -47,7 +63,15 @@ impl fmt::Display for RayCounts {
             self.shadow,
             self.reflection,
             self.refraction
-        )
+        )?;
+        if self.light_sample + self.glossy + self.indirect > 0 {
+            write!(
+                f,
+                ", {} light sample, {} glossy, {} indirect",
+                self.light_sample, self.glossy, self.indirect
+            )?;
+        }
+        Ok(())
     }
 }
 
@@ -61,6 +85,9 @@ pub enum IntegratorKind {
     /// Ray casting plus recursive mirror reflection and refraction
     /// (Suffern's Whitted tracer).
     Whitted,
+    /// Unidirectional path tracing with next-event estimation and MIS
+    /// (global illumination).
+    Path,
 }
 
 impl fmt::Display for IntegratorKind {
@@ -68,6 +95,7 @@ impl fmt::Display for IntegratorKind {
         f.write_str(match self {
             IntegratorKind::RayCast => "ray casting",
             IntegratorKind::Whitted => "Whitted",
+            IntegratorKind::Path => "path tracing",
         })
     }
 }
@@ -80,7 +108,7 @@ impl fmt::Display for IntegratorKind {
 /// New effects (area lights, depth of field, glossy reflection, path
 /// tracing) become new fields here and new type parameters of the render
 /// loop; the struct is `#[non_exhaustive]` so adding them breaks no user.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[non_exhaustive]
 pub struct EffectPlan {
@@ -88,9 +116,14 @@ pub struct EffectPlan {
     pub integrator: IntegratorKind,
     /// Samples per pixel.
     pub spp: u32,
-    /// Whether samples are jittered (stratified, correlated multi-jittered);
-    /// off at 1 spp, where the sample goes through the pixel centre.
+    /// Whether samples are spread over the pixel (by `sampler`, weighted by
+    /// `filter`); off at 1 spp, where the sample goes through the pixel
+    /// centre and no filter weight is computed.
     pub jitter: bool,
+    /// The sampler that places the samples.
+    pub sampler: SamplerKind,
+    /// The reconstruction filter (`Box` whenever `jitter` is off).
+    pub filter: Filter,
     /// Whether some ambient light reaches a material with `ka > 0`.
     pub ambient: bool,
     /// Point and directional lights evaluated at each shading point (0 when
@@ -109,8 +142,17 @@ pub struct EffectPlan {
     /// `max_depth > 0`.
     pub refraction: bool,
     /// Longest chain of secondary rays: 0 without reflection and refraction,
-    /// else the scene's `max_depth`.
+    /// else the scene's `max_depth` (the path tracer's `path_max_depth`).
     pub max_depth: u32,
+    /// Emitting primitives sampled as area lights (path tracing only).
+    pub area_lights: u32,
+    /// Whether area lights are sampled (next-event estimation with MIS).
+    pub light_sampling: bool,
+    /// Whether some material in use has a glossy (Phong) lobe that the path
+    /// tracer samples.
+    pub glossy: bool,
+    /// Whether diffuse surfaces scatter indirect light (path tracing).
+    pub indirect: bool,
 }
 
 impl EffectPlan {
@@ -199,6 +241,37 @@ impl EffectPlan {
                 }
             }
         }
+        let emits = |m: &Material| matches!(*m, Material::Emissive { color, strength } if color * strength != crate::Rgb::ZERO);
+        // Emitting geometry that can be sampled (planes are unbounded).
+        let emitting_geometry = scene.objects.iter().any(|o| {
+            !matches!(o.geometry, Geometry::Plane { .. })
+                && scene.materials.get(o.material as usize).is_some_and(emits)
+        }) || extra
+            .is_some_and(|e| scene.materials.get(e.1 as usize).is_some_and(emits));
+        let path = match scene.settings.integrator {
+            IntegratorChoice::Path => true,
+            IntegratorChoice::Whitted => false,
+            IntegratorChoice::Auto => emitting_geometry,
+        };
+        if path {
+            let glossy = in_use().any(|m| match *m {
+                Material::Phong { ks, specular, .. } => ks != 0.0 && specular != crate::Rgb::ZERO,
+                Material::Reflective { ks, .. } => ks != 0.0,
+                _ => false,
+            });
+            let indirect = in_use().any(|m| match *m {
+                Material::Matte { color, kd, .. }
+                | Material::Phong { color, kd, .. }
+                | Material::Reflective { color, kd, .. } => kd != 0.0 && color != crate::Rgb::ZERO,
+                _ => false,
+            });
+            return Self::path(
+                scene,
+                [emitting_geometry, reflects, transmits, glossy, indirect],
+                direct_lights,
+                shadow_lights,
+            );
+        }
         let depth = scene.settings.max_depth;
         let reflection = reflects && depth > 0;
         let refraction = transmits && depth > 0;
@@ -211,6 +284,12 @@ impl EffectPlan {
             },
             spp: scene.settings.spp,
             jitter: scene.settings.spp > 1,
+            sampler: scene.settings.sampler,
+            filter: if scene.settings.spp > 1 {
+                scene.settings.filter
+            } else {
+                Filter::Box
+            },
             ambient,
             direct_lights,
             shadow_lights,
@@ -218,6 +297,39 @@ impl EffectPlan {
             reflection,
             refraction,
             max_depth: if secondary { depth } else { 0 },
+            area_lights: 0,
+            light_sampling: false,
+            glossy: false,
+            indirect: false,
+        }
+    }
+
+    /// The plan of the path tracer. Ambient light is not used: the
+    /// background is the environment's radiance.
+    fn path(scene: &Scene, has: [bool; 5], direct_lights: u32, shadow_lights: u32) -> Self {
+        let [emitting_geometry, reflects, transmits, glossy, indirect] = has;
+        let depth = scene.settings.path_max_depth;
+        Self {
+            integrator: IntegratorKind::Path,
+            spp: scene.settings.spp,
+            jitter: scene.settings.spp > 1,
+            sampler: scene.settings.sampler,
+            filter: if scene.settings.spp > 1 {
+                scene.settings.filter
+            } else {
+                Filter::Box
+            },
+            ambient: false,
+            direct_lights,
+            shadow_lights,
+            shadows: shadow_lights > 0,
+            reflection: reflects && depth > 0,
+            refraction: transmits && depth > 0,
+            max_depth: depth,
+            area_lights: 0,
+            light_sampling: emitting_geometry && depth > 0,
+            glossy: glossy && depth > 0,
+            indirect: indirect && depth > 0,
         }
     }
 }
@@ -239,7 +351,11 @@ impl fmt::Display for EffectPlan {
             self.integrator, self.max_depth
         )?;
         if self.jitter {
-            writeln!(f, "samples     {} per pixel, stratified jitter", self.spp)?;
+            writeln!(
+                f,
+                "samples     {} per pixel, {} sampler, {} filter",
+                self.spp, self.sampler, self.filter
+            )?;
         } else {
             writeln!(
                 f,
@@ -260,6 +376,20 @@ impl fmt::Display for EffectPlan {
             self.shadow_lights,
             self.direct_lights
         )?;
+        if self.integrator == IntegratorKind::Path {
+            writeln!(
+                f,
+                "area lights {} sampled ({})",
+                self.area_lights,
+                if self.light_sampling {
+                    "next-event estimation, MIS"
+                } else {
+                    "off"
+                }
+            )?;
+            writeln!(f, "indirect    {}", on_off(self.indirect))?;
+            writeln!(f, "glossy      {}", on_off(self.glossy))?;
+        }
         writeln!(f, "reflection  {}", on_off(self.reflection))?;
         write!(f, "refraction  {}", on_off(self.refraction))
     }

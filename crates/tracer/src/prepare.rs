@@ -2,10 +2,11 @@
 //! for the accelerator, and the shading data.
 
 use crate::camera::CameraModel;
+use crate::emitters::EmitterShape;
 use crate::error::SceneError;
 use crate::float::to_f64;
 use crate::integrator::{DirectLight, MeshRef, MeshShading, PrimMaterials, SceneData};
-use crate::plan::EffectPlan;
+use crate::plan::{EffectPlan, IntegratorKind};
 use crate::scene::{Geometry, Light, Material, MaterialId, Rgb, Scene};
 use crate::shapes::{Cuboid, Plane, Shape, Sphere, Triangle};
 use gridrt_bbox::Vec3;
@@ -170,8 +171,30 @@ pub(crate) fn prepare(scene: &Scene, set: Option<SphereSet>) -> Result<Prepared,
     let plan = EffectPlan::derive(scene, set.as_ref().map(|s| (s.spheres.len(), s.material)));
     let s = &scene.settings;
     let camera = CameraModel::new(&scene.camera, s.width, s.height)?;
+    let mut plan = plan;
     let mut data = shading_data(scene, &plan);
-    let prims = convert(scene, set, count, all_spheres, &mut data);
+    let prims = convert(
+        scene,
+        set,
+        count,
+        all_spheres,
+        plan.light_sampling,
+        &mut data,
+    );
+    data.emitters.finish(prims.len());
+    plan.area_lights = data.emitters.list.len() as u32;
+    plan.light_sampling = plan.area_lights > 0;
+    if plan.integrator == IntegratorKind::Path {
+        let emits = scene.objects.iter().any(|o| {
+            scene
+                .materials
+                .get(o.material as usize)
+                .is_some_and(|m| emission(m) != Rgb::ZERO)
+        });
+        if !emits && data.lights.is_empty() && s.background == Rgb::ZERO {
+            return Err(SceneError::NothingEmits);
+        }
+    }
     Ok(Prepared {
         data,
         prims,
@@ -202,6 +225,11 @@ fn validate(scene: &Scene, set: Option<&SphereSet>) -> Result<(usize, bool), Sce
     }
     if s.spp == 0 {
         return Err(SceneError::ZeroSamples);
+    }
+    if !s.filter.is_valid() {
+        return Err(SceneError::BadFilter {
+            filter: s.filter.describe(),
+        });
     }
     if !s.background.is_finite() {
         return Err(SceneError::SettingNotFinite { what: "background" });
@@ -394,6 +422,7 @@ fn shading_data(scene: &Scene, plan: &EffectPlan) -> SceneData {
         materials: scene.materials.clone(),
         background: scene.settings.background,
         max_depth: plan.max_depth,
+        path_depth: scene.settings.path_max_depth,
         ..SceneData::default()
     };
     for l in &scene.lights {
@@ -437,12 +466,49 @@ fn shading_data(scene: &Scene, plan: &EffectPlan) -> SceneData {
     data
 }
 
+/// The emitted radiance of a material (zero for non-emitters).
+fn emission(m: &Material) -> Rgb {
+    match *m {
+        Material::Emissive { color, strength } => color * strength,
+        _ => Rgb::ZERO,
+    }
+}
+
+/// Adds primitive `prim` to the area lights when its material emits.
+fn add_emitter(data: &mut SceneData, prim: usize, shape: &Shape, material: u32) {
+    let radiance = data
+        .materials
+        .get(material as usize)
+        .map_or(Rgb::ZERO, emission);
+    if radiance == Rgb::ZERO {
+        return;
+    }
+    let shape = match *shape {
+        Shape::Triangle(t) => {
+            let [p0, p1, p2] = t.vertices();
+            let (e1, e2) = (p1 - p0, p2 - p0);
+            let Some(n) = e1.cross(e2).try_normalize() else {
+                return;
+            };
+            EmitterShape::Triangle { p0, e1, e2, n }
+        }
+        Shape::Sphere(sp) => EmitterShape::Sphere {
+            center: sp.center,
+            radius: sp.radius,
+        },
+        // Boxes are not sampled; paths that hit them still see their light.
+        Shape::Cuboid(_) => return,
+    };
+    data.emitters.push(prim, shape, radiance);
+}
+
 /// Fills `data` with the primitives' materials and returns the primitives.
 fn convert(
     scene: &Scene,
     set: Option<SphereSet>,
     count: usize,
     all_spheres: bool,
+    sample_lights: bool,
     data: &mut SceneData,
 ) -> Prims {
     let set_material = set.as_ref().map(|s| s.material);
@@ -509,7 +575,11 @@ fn convert(
         let mut spheres = Vec::with_capacity(count - set_len);
         for o in &scene.objects {
             if let Geometry::Sphere { center, radius } = o.geometry {
-                spheres.push(Sphere::new(center, radius));
+                let sphere = Sphere::new(center, radius);
+                if sample_lights {
+                    add_emitter(data, spheres.len(), &Shape::Sphere(sphere), o.material);
+                }
+                spheres.push(sphere);
                 record(o.material, MeshRef::NONE, data);
             }
         }
@@ -536,7 +606,11 @@ fn convert(
         for o in &scene.objects {
             match &o.geometry {
                 Geometry::Sphere { center, radius } => {
-                    shapes.push(Sphere::new(*center, *radius).into());
+                    let shape = Shape::from(Sphere::new(*center, *radius));
+                    if sample_lights {
+                        add_emitter(data, shapes.len(), &shape, o.material);
+                    }
+                    shapes.push(shape);
                     record(o.material, MeshRef::NONE, data);
                 }
                 Geometry::Cuboid { min, max } => {
@@ -560,7 +634,11 @@ fn convert(
                         if tri.is_degenerate() {
                             continue;
                         }
-                        shapes.push(tri.into());
+                        let shape = Shape::from(tri);
+                        if sample_lights {
+                            add_emitter(data, shapes.len(), &shape, o.material);
+                        }
+                        shapes.push(shape);
                         let mesh = MeshRef {
                             mesh: mesh_id,
                             tri: t as u32,

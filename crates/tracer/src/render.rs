@@ -5,12 +5,14 @@ use crate::camera::CameraModel;
 use crate::error::{Cancelled, SceneError};
 use crate::framebuffer::{Framebuffer, LiveImage, PixelRect};
 use crate::integrator::{Found, Integrator, Li, SceneData, Shading, ThreadState, Tracer, Whitted};
-use crate::plan::{EffectPlan, RayCounts};
+use crate::path::PathTracer;
+use crate::plan::{EffectPlan, IntegratorKind, RayCounts};
 use crate::pool::Pool;
 use crate::prepare::{prepare, Prepared, Prims, SphereSet};
-use crate::sampler::{cmj, pixel_pattern};
+use crate::sampling::{FilterTable, SampleStream, SamplerKind};
 use crate::scene::{Rgb, Scene};
 use crate::shapes::{Shape, Sphere, Surface};
+pub use crate::stats::RenderStats;
 use gridrt_bbox::{Ray, Real, Vec3};
 use gridrt_grid::{Accelerator, CellStorage, Exhaustive, Grid, GridConfig, GridStats, Primitive};
 use std::fmt;
@@ -56,78 +58,6 @@ impl Default for RenderOptions {
     }
 }
 
-/// What a render did and how long it took.
-#[derive(Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct RenderStats {
-    /// The effects simulated.
-    pub plan: EffectPlan,
-    /// Building the accelerator (and preparing the scene).
-    #[cfg_attr(
-        feature = "serde",
-        serde(serialize_with = "crate::serde_support::duration_secs")
-    )]
-    pub build_time: Duration,
-    /// Rendering the pixels.
-    #[cfg_attr(
-        feature = "serde",
-        serde(serialize_with = "crate::serde_support::duration_secs")
-    )]
-    pub render_time: Duration,
-    /// Rays traced, by kind.
-    pub rays: RayCounts,
-    /// Pixels where at least one camera ray hit something.
-    pub pixels_hit: u64,
-    /// The grid's statistics (`None` for the exhaustive accelerator).
-    #[cfg_attr(
-        feature = "serde",
-        serde(serialize_with = "crate::serde_support::grid_stats")
-    )]
-    pub grid: Option<GridStats>,
-}
-
-impl RenderStats {
-    /// Millions of rays (all kinds) per second of render time.
-    #[must_use]
-    pub fn mrays_per_sec(&self) -> f64 {
-        let s = self.render_time.as_secs_f64();
-        if s > 0.0 {
-            self.rays.total() as f64 / s * 1e-6
-        } else {
-            0.0
-        }
-    }
-}
-
-impl fmt::Display for RenderStats {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "{}", self.plan)?;
-        writeln!(f, "rays        {}", self.rays)?;
-        writeln!(f, "pixels hit  {}", self.pixels_hit)?;
-        if let Some(g) = &self.grid {
-            writeln!(
-                f,
-                "grid        {}×{}×{} cells, {} occupied, {} references ({:.2} per occupied cell, max {}), {:.1} MiB",
-                g.dims[0],
-                g.dims[1],
-                g.dims[2],
-                g.occupied_cells,
-                g.references,
-                g.mean_refs_per_occupied,
-                g.max_refs_per_cell,
-                g.bytes as f64 / (1024.0 * 1024.0)
-            )?;
-        }
-        write!(
-            f,
-            "time        build {:.3} s, render {:.3} s ({:.2} Mrays/s)",
-            self.build_time.as_secs_f64(),
-            self.render_time.as_secs_f64(),
-            self.mrays_per_sec()
-        )
-    }
-}
-
 /// An accelerator over one primitive type.
 #[derive(Debug)]
 #[allow(clippy::large_enum_variant)] // one per renderer
@@ -168,6 +98,7 @@ pub struct Renderer {
     width: u32,
     height: u32,
     spp: u32,
+    filter: FilterTable,
     build_time: Duration,
     grid_stats: Option<GridStats>,
     prim_count: usize,
@@ -288,10 +219,12 @@ impl Renderer {
                 (Accel::Shapes(a), s)
             }
         });
+        let filter = FilterTable::new(plan.filter);
         Ok(Renderer {
             accel,
             data,
             camera,
+            filter,
             plan,
             width,
             height,
@@ -473,6 +406,8 @@ impl Renderer {
             rows,
             cols,
             spp: self.spp,
+            sampler: self.plan.sampler,
+            filter: &self.filter,
             progress,
             cancel,
             done: AtomicU64::new(0),
@@ -521,6 +456,8 @@ impl Renderer {
             rows: &all,
             cols: (0, self.width),
             spp: 1,
+            sampler: self.plan.sampler,
+            filter: &self.filter,
             progress: &|_, _| {},
             cancel: &AtomicBool::new(false),
             done: AtomicU64::new(0),
@@ -556,7 +493,13 @@ impl Integrator for HitOnly {
     const BATCH: bool = false;
 
     #[inline]
-    fn li<A>(tr: &Tracer<'_, A>, ray: &Ray, _: u32, ts: &mut ThreadState<A::Scratch>) -> Li
+    fn li<A>(
+        tr: &Tracer<'_, A>,
+        ray: &Ray,
+        _: u32,
+        _: &mut SampleStream,
+        ts: &mut ThreadState<A::Scratch>,
+    ) -> Li
     where
         A: Accelerator,
         A::Prim: Surface,
@@ -574,6 +517,7 @@ impl Integrator for HitOnly {
         _: &Ray,
         hit: Option<&Shading>,
         _: u32,
+        _: &mut SampleStream,
         _: &mut ThreadState<A::Scratch>,
     ) -> Li
     where
@@ -623,6 +567,8 @@ struct Job<'a> {
     /// The image columns to render, `x0..x1`.
     cols: (u32, u32),
     spp: u32,
+    sampler: SamplerKind,
+    filter: &'a FilterTable,
     progress: &'a (dyn Fn(u64, u64) + Sync),
     cancel: &'a AtomicBool,
     done: AtomicU64,
@@ -645,6 +591,9 @@ impl Job<'_> {
         A: Accelerator,
         A::Prim: Surface,
     {
+        if plan.integrator == IntegratorKind::Path {
+            return self.pick_jitter::<A, PathTracer>(accel, data, plan);
+        }
         if plan.shadows {
             self.pick_secondary::<A, true>(accel, data, plan)
         } else {
@@ -812,21 +761,33 @@ impl Job<'_> {
         for &y in &self.rows[tile.k0..tile.k1] {
             debug_assert!(y < self.height);
             let r = self.height - 1 - y;
-            if JITTER {
+            if JITTER || I::SAMPLED {
                 for x in tile.x0..tile.x1 {
                     let index = u64::from(y) * u64::from(self.width) + u64::from(x);
-                    let pattern = pixel_pattern(index, 0);
                     let mut sum = Rgb::ZERO;
+                    let mut weights = 0.0f32;
                     let mut hit = false;
                     for s in 0..self.spp {
-                        let (jx, jy) = cmj(s, self.spp, pattern);
+                        let mut stream = SampleStream::new(self.sampler, index, s, self.spp);
+                        let u = stream.next_2d();
+                        // At 1 spp the sample goes through the pixel centre.
+                        let (jx, jy, w) = if JITTER {
+                            self.filter.sample(u)
+                        } else {
+                            (0.5, 0.5, 1.0)
+                        };
                         let ray = self.camera.ray(x, r, jx, jy);
                         ts.counts.camera += 1;
-                        let li = I::li(tr, &ray, 0, ts);
-                        sum += li.color;
+                        let li = I::li(tr, &ray, 0, &mut stream, ts);
+                        sum += li.color * w;
+                        weights += w;
                         hit |= li.hit;
                     }
-                    pixels.push(sum / self.spp as f32);
+                    pixels.push(if weights > 0.0 {
+                        sum / weights
+                    } else {
+                        Rgb::ZERO
+                    });
                     hits += u64::from(hit);
                 }
             } else if I::BATCH {
@@ -846,16 +807,18 @@ impl Job<'_> {
                 ts.counts.camera += n as u64;
                 let shading: [Option<Shading>; N] =
                     std::array::from_fn(|k| found[k].map(|f| tr.shading(&rays[k], f)));
+                let mut stream = SampleStream::new(self.sampler, 0, 0, 1);
                 for k in 0..n {
-                    let li = I::shade(tr, &rays[k], shading[k].as_ref(), 0, ts);
+                    let li = I::shade(tr, &rays[k], shading[k].as_ref(), 0, &mut stream, ts);
                     pixels.push(li.color);
                     hits += u64::from(li.hit);
                 }
             } else {
+                let mut stream = SampleStream::new(self.sampler, 0, 0, 1);
                 for x in tile.x0..tile.x1 {
                     let ray = self.camera.ray(x, r, 0.5, 0.5);
                     ts.counts.camera += 1;
-                    let li = I::li(tr, &ray, 0, ts);
+                    let li = I::li(tr, &ray, 0, &mut stream, ts);
                     pixels.push(li.color);
                     hits += u64::from(li.hit);
                 }

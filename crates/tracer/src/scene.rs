@@ -4,6 +4,7 @@
 //! Right-handed coordinates, y up by convention of the cameras in fixtures.
 //! Colours are linear RGB (`glam::Vec3`, always f32, whatever `Real` is).
 
+use crate::sampling::{Filter, SamplerKind};
 use gridrt_bbox::{Real, Vec3};
 
 /// A linear-RGB colour (always f32).
@@ -40,6 +41,31 @@ pub struct Settings {
     pub max_depth: u32,
     /// Radiance of rays that hit nothing.
     pub background: Rgb,
+    /// How pixel samples (and, when path tracing, every other sample
+    /// dimension) are placed. Unused at 1 spp, where the sample goes
+    /// through the pixel centre.
+    pub sampler: SamplerKind,
+    /// The reconstruction filter (unused at 1 spp).
+    pub filter: Filter,
+    /// The light transport algorithm.
+    pub integrator: IntegratorChoice,
+    /// Longest path of the path tracer, in bounces (default 64; Russian
+    /// roulette ends most paths long before).
+    pub path_max_depth: u32,
+}
+
+/// Which integrator renders a scene.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum IntegratorChoice {
+    /// Path tracing when some object emits light (an area light), else
+    /// Whitted (or plain ray casting when nothing reflects or refracts).
+    #[default]
+    Auto,
+    /// Suffern's Whitted tracer: direct light from point, directional and
+    /// ambient lights, perfect mirror reflection and refraction.
+    Whitted,
+    /// Path tracing: global illumination, area lights, soft shadows.
+    Path,
 }
 
 impl Default for Settings {
@@ -50,6 +76,10 @@ impl Default for Settings {
             spp: 1,
             max_depth: 5,
             background: Rgb::ZERO,
+            sampler: SamplerKind::default(),
+            filter: Filter::default(),
+            integrator: IntegratorChoice::Auto,
+            path_max_depth: 64,
         }
     }
 }

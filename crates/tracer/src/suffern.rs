@@ -340,6 +340,7 @@ pub fn scene_with_seed(n: usize, seed: u64) -> Scene {
             spp: 1,
             max_depth: 0,
             background: Rgb::ZERO,
+            ..Settings::default()
         },
         materials,
         lights: vec![

@@ -60,6 +60,7 @@ pub fn empty_scene(w: u32, h: u32, eye: Vec3) -> Scene {
             spp: 1,
             max_depth: 5,
             background: Rgb::ZERO,
+            ..Settings::default()
         },
         materials: Vec::new(),
         lights: Vec::new(),
@@ -141,6 +142,9 @@ pub fn kitchen_sink(w: u32, h: u32) -> Scene {
     s.settings.spp = 2;
     s.settings.max_depth = 4;
     s.settings.background = Rgb::new(0.1, 0.2, 0.3);
+    // Its emissive sphere would make `Auto` path trace; these tests are
+    // about the Whitted tracer (tests/path.rs path traces it).
+    s.settings.integrator = gridrt_tracer::IntegratorChoice::Whitted;
     let red = material(&mut s, matte(Rgb::new(0.8, 0.2, 0.1), 0.2, 0.8));
     let phong = material(
         &mut s,

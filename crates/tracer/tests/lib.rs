@@ -12,6 +12,7 @@ mod lambert;
 mod leaks;
 mod mirror;
 mod offsets;
+mod path;
 mod plan;
 mod precision;
 mod progress;

@@ -1,5 +1,6 @@
-//! Deterministic pixel samples: correlated multi-jittered sampling (Kensler,
-//! "Correlated Multi-Jittered Sampling", Pixar technical memo 13-01, 2013).
+//! Correlated multi-jittered sampling (Kensler, "Correlated Multi-Jittered
+//! Sampling", Pixar technical memo 13-01, 2013) and the integer hashes the
+//! other samplers share.
 //!
 //! A sample depends only on the pixel index, the sample index and the sample
 //! count, through integer hashes: no state is carried between pixels, so an
@@ -10,7 +11,7 @@ use gridrt_bbox::Real;
 /// Kensler's hash-based permutation of `0..l`: the `i`-th element of the
 /// permutation number `p`.
 #[inline]
-fn permute(mut i: u32, l: u32, p: u32) -> u32 {
+pub(crate) fn permute(mut i: u32, l: u32, p: u32) -> u32 {
     debug_assert!(l > 0 && i < l);
     let mut w = l - 1;
     w |= w >> 1;
@@ -46,7 +47,7 @@ fn permute(mut i: u32, l: u32, p: u32) -> u32 {
 
 /// Kensler's hash to a float in `[0, 1)`.
 #[inline]
-fn randfloat(mut i: u32, p: u32) -> Real {
+pub(crate) fn randfloat(mut i: u32, p: u32) -> Real {
     i ^= p;
     i ^= i >> 17;
     i ^= i >> 10;
@@ -94,7 +95,7 @@ pub(crate) fn cmj(s: u32, n: u32, p: u32) -> (Real, Real) {
 }
 
 /// The largest [`Real`] below 1.
-const ONE_MINUS_ULP: Real = 1.0 - Real::EPSILON / 2.0;
+pub(crate) const ONE_MINUS_ULP: Real = 1.0 - Real::EPSILON / 2.0;
 
 #[cfg(test)]
 mod tests {
