@@ -14,6 +14,7 @@ mod full_precision;
 mod models;
 mod passes;
 mod shared;
+mod stats;
 mod untrusted;
 mod untrusted_messages;
 mod untrusted_outputs;
