@@ -13,15 +13,22 @@
 //! - `cargo xtask speedup-table [--sizes ...] [--runs R] [--threads T]
 //!   [--full] [--out DIR]` regenerates Suffern's grid vs exhaustive table
 //!   (`docs/speedup-table.md`) and its plot (`docs/speedup.svg`).
+//! - `cargo xtask scenes [--only NAME,...] [--runs R] [--no-embree]` measures
+//!   the scene corpus beside Embree (`docs/scenes.md`, `docs/scenes.svg`).
 
 mod bitdiff;
+mod corpus;
 #[cfg(feature = "embree")]
 mod embree;
 mod imgdiff;
 mod measure;
+mod peer;
 mod plot;
 mod regress;
 mod report;
+mod scenes;
+mod scenes_render;
+mod scenes_report;
 mod speedup;
 mod table;
 mod tolerances;
@@ -46,6 +53,9 @@ enum Task {
     /// Regenerate Suffern's grid vs exhaustive speed-up table
     /// (docs/speedup-table.md, docs/speedup.svg).
     SpeedupTable(speedup::Args),
+    /// Measure the scene corpus beside Embree (docs/scenes.md,
+    /// docs/scenes.svg).
+    Scenes(scenes::Args),
 }
 
 /// What a task reports when it ran to the end: whether every check passed.
@@ -56,6 +66,7 @@ fn main() -> ExitCode {
     let outcome = match cli.task {
         Task::Regress(args) => regress::run(&args),
         Task::SpeedupTable(args) => speedup::run(&args),
+        Task::Scenes(args) => scenes::run(&args),
     };
     match outcome {
         Ok(true) => ExitCode::SUCCESS,

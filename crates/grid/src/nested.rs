@@ -425,16 +425,20 @@ impl Nested {
 }
 
 /// Splits the references `refs` of cell `idx` of grid `g` into those that
-/// span at least half of the (padded) cell along two axes or more, to be
-/// tested directly, and the others, for the nested grid. Only when the
-/// direct ones are at most an eighth of the references: otherwise none.
+/// span at least half of the (padded) cell along some axis, to be tested
+/// directly, and the others, for the nested grid, which then spans only
+/// what the others cover: a wall, a floor or a long sliver crossing a
+/// detailed object's cell would otherwise stretch the nested grid over the
+/// whole cell, and the object would fall into a few nested cells again.
+/// Only when the direct ones are at most an eighth of the references:
+/// otherwise none.
 fn split<P: Primitive>(prims: &[P], g: &Geom, idx: [u32; 3], refs: &[u32]) -> (Vec<u32>, Vec<u32>) {
     let cell = g.padded_cell_box(idx);
     let half = cell.extent() * 0.5;
     let spans = |r: u32| {
         let b = prims[r as usize].bounds();
         let e = b.max.min(cell.max) - b.min.max(cell.min);
-        u32::from(e.x >= half.x) + u32::from(e.y >= half.y) + u32::from(e.z >= half.z) >= 2
+        e.x >= half.x || e.y >= half.y || e.z >= half.z
     };
     let (direct, inner): (Vec<u32>, Vec<u32>) = refs.iter().partition(|&&r| spans(r));
     if direct.len() * 8 > refs.len() {

@@ -196,3 +196,52 @@ fn auto_nests_a_crowded_cell_and_leaves_a_uniform_scene_flat() {
     let g = Grid::build(uniform, &GridConfig::default());
     assert_eq!(g.stats().nested_cells, 0, "{:?}", g.stats());
 }
+
+/// `fixtures/scenes/teapot_stadium.ron` in miniature: a wall that crosses
+/// the crowded cell along one axis (spanning it on that axis only) must
+/// not stretch the nested grid over the whole cell, or the cluster falls
+/// into one nested cell again and every ray tests all of it.
+#[test]
+fn a_wall_crossing_the_crowded_cell_is_tested_directly() {
+    use gridrt_grid::QueryCounters;
+    // 3000 small triangles in a unit ball at the origin, in a 2000-unit
+    // room, and a long thin wall passing by the cluster at x = 2.
+    let mut scene: Vec<Triangle> = (0..3000)
+        .map(|i| {
+            let a = i as Real;
+            let c = Vec3::new((a * 0.37).sin(), (a * 0.11).cos(), (a * 0.07).sin()) * 0.5;
+            Triangle::new(c, c + Vec3::X * 0.02, c + Vec3::Z * 0.02)
+        })
+        .collect();
+    for k in [-1.0 as Real, 1.0] {
+        let p = Vec3::splat(1000.0 * k);
+        scene.push(Triangle::new(p, p + Vec3::X, p + Vec3::Y));
+    }
+    scene.push(Triangle::new(
+        Vec3::new(2.0, -0.2, -900.0),
+        Vec3::new(2.0, 0.2, -900.0),
+        Vec3::new(2.0, 0.0, 900.0),
+    ));
+    let auto = [
+        GridConfig::default(),
+        GridConfig {
+            mailbox: true,
+            ..GridConfig::default()
+        },
+    ];
+    let checker = Checker::new(scene.clone(), &auto);
+    let g = Grid::build(scene, &GridConfig::default());
+    g.check_invariants().expect("a valid grid");
+    let mut scratch = gridrt_grid::Accelerator::scratch(&g);
+    let mut c = QueryCounters::default();
+    for i in 0..100 {
+        let a = i as Real * 0.2;
+        let to = Vec3::new(a.sin(), a.cos(), (0.3 * a).sin()) * 0.4;
+        let from = Vec3::new(0.3, 3.0, 4.0);
+        let ray = Ray::new(from, to - from);
+        checker.check(&ray, 0.0, Real::INFINITY);
+        g.closest_hit_counted(&ray, 0.0, Real::INFINITY, &mut scratch, &mut c);
+    }
+    assert!(g.stats().nested_cells > 0);
+    assert!(c.tests_per_ray() < 100.0, "{c:?} {:?}", g.stats());
+}

@@ -86,7 +86,14 @@ fn crowded_cells_get_nested_grids_and_stay_exact() {
 #[test]
 fn nesting_cuts_the_tests_per_ray() {
     let tris = stadium();
-    let flat = Grid::build(tris.clone(), &GridConfig::default());
+    let flat = Grid::build(
+        tris.clone(),
+        &GridConfig {
+            auto: false,
+            ..GridConfig::default()
+        },
+    );
+    assert_eq!(flat.stats().nested_cells, 0);
     let nested = Grid::build(
         tris,
         &GridConfig {

@@ -7,18 +7,17 @@ use crate::cli_outputs::{
 };
 pub use crate::cli_outputs::{AovArgs, AovList, DiffArgs, MergeArgs, PartArgs, PartialArgs};
 pub use crate::cli_view::ViewArgs;
+use crate::cli_stats::{self, speed_text, Perf};
 use crate::error::{escape_control, Error, Result};
-use crate::image_out::{check_image_path, check_output_dir, stage, write_atomic};
-use crate::model::load_model_in;
+use crate::image_out::{check_image_path, check_output_dir, stage};
 use crate::model_scene::apply_overrides;
-use crate::rays::{format_hits, parse_rays, trace_rays};
 use crate::sandbox::Sandbox;
 use crate::scene::{default_scene, load_scene_in, LoadedScene, DEFAULT_SCENE_NAME};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use gridrt_bbox::{Aabb, Real, Vec3};
-use gridrt_grid::{CellStorage, Exhaustive, Grid, GridConfig, GridStats};
+use gridrt_grid::{CellStorage, GridConfig, GridStats, QueryCounters, AUTO_MIN_REFS};
 use gridrt_tracer::{
-    AccelKind, Geometry, Light, Projection, RenderOptions, RenderStats, Renderer, Scene, Triangle,
+    AccelKind, Geometry, Light, Projection, RenderOptions, RenderStats, Renderer, Scene,
 };
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -139,6 +138,15 @@ pub struct RaysArgs {
     /// Write the answers to this file instead of standard output.
     #[arg(short, long, value_name = "OUT.csv")]
     pub output: Option<PathBuf>,
+    /// Worker threads for the build and the queries (default: all cores);
+    /// the answers do not depend on it.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// Also write the statistics as JSON to this file: the accelerator
+    /// built, build and trace seconds, rays, hits, Mrays/s, cells and
+    /// tests per ray, bytes.
+    #[arg(long, value_name = "FILE.json")]
+    pub stats: Option<PathBuf>,
     /// Accelerator options.
     #[command(flatten)]
     pub accel: AccelArgs,
@@ -212,7 +220,7 @@ impl AccessArgs {
 #[derive(Debug, Clone, Copy, Args)]
 pub struct AccelArgs {
     /// The accelerator.
-    #[arg(long, value_enum, default_value_t = Accel::Grid)]
+    #[arg(long, value_enum, default_value_t = Accel::Auto)]
     pub accel: Accel,
     /// The grid multiplier m (about m³ cells per primitive), in (0, 1000];
     /// default: the grid crate's tuned value.
@@ -233,10 +241,18 @@ pub struct AccelArgs {
 /// `--accel` values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Accel {
-    /// Regular grid, a dense table with one offset per cell (the fastest in
-    /// our measurements; `dense-grid` is the same).
+    /// The flat grid or the hierarchy of nested grids, chosen from the
+    /// scene's statistics at build time (the default; see the grid
+    /// crate's README for the rule).
+    Auto,
+    /// The flat regular grid, a dense table with one offset per cell
+    /// (`dense-grid` is the same); nested grids only with --grid-nest.
     #[value(alias = "dense-grid")]
     Grid,
+    /// The regular grid with nested grids in every cell of at least 48
+    /// references (--grid-nest N sets another threshold), whatever the
+    /// scene's statistics.
+    Hierarchy,
     /// Regular grid, only occupied cells, in a hash table keyed by Morton
     /// code (the lecture's; smaller when most cells are empty).
     HashedGrid,
@@ -247,14 +263,18 @@ pub enum Accel {
 impl Accel {
     fn kind(self) -> AccelKind {
         match self {
-            Self::Grid | Self::HashedGrid => AccelKind::Grid,
+            Self::Auto | Self::Grid | Self::Hierarchy | Self::HashedGrid => AccelKind::Grid,
             Self::Exhaustive => AccelKind::Exhaustive,
         }
     }
 
-    fn name(self) -> &'static str {
+    /// The value's name on the command line.
+    #[must_use]
+    pub fn name(self) -> &'static str {
         match self {
+            Self::Auto => "auto",
             Self::Grid => "grid",
+            Self::Hierarchy => "hierarchy",
             Self::HashedGrid => "hashed-grid",
             Self::Exhaustive => "exhaustive",
         }
@@ -271,7 +291,7 @@ fn parse_grid_m(s: &str) -> std::result::Result<f64, String> {
 }
 
 impl AccelArgs {
-    fn grid_config(&self) -> GridConfig {
+    pub(crate) fn grid_config(&self) -> GridConfig {
         let mut g = GridConfig::default();
         if let Some(m) = self.grid_m {
             g.m = m as Real;
@@ -280,6 +300,11 @@ impl AccelArgs {
             g.nest_min_refs = n;
         }
         g.nest_m = self.grid_nest_m.map(|m| m as Real);
+        match self.accel {
+            Accel::Grid | Accel::HashedGrid => g.auto = false,
+            Accel::Hierarchy if g.nest_min_refs == 0 => g.nest_min_refs = AUTO_MIN_REFS,
+            _ => {}
+        }
         g.storage = match self.accel {
             Accel::HashedGrid => CellStorage::Hashed,
             _ => CellStorage::Dense,
@@ -319,7 +344,7 @@ pub fn run_with_cancel(cli: Cli, out: &mut dyn Write, cancel: &AtomicBool) -> Re
         None => render(&cli.render, out, cancel),
         Some(Command::Render(a)) => render(&a, out, cancel),
         Some(Command::Info(a)) => info(&a, out),
-        Some(Command::Rays(a)) => rays(&a, out),
+        Some(Command::Rays(a)) => crate::cli_rays::rays(&a, out),
         Some(Command::Merge(a)) => crate::cli_outputs::merge(&a, out),
         Some(Command::Diff(a)) => crate::cli_outputs::diff(&a, out),
     }
@@ -391,7 +416,7 @@ fn same_file(a: &Path, b: &Path) -> bool {
 }
 
 /// Prints warnings, control characters escaped.
-fn warn(warnings: &[String]) {
+pub(crate) fn warn(warnings: &[String]) {
     let mut e = std::io::stderr().lock();
     for w in warnings {
         let _ = writeln!(e, "warning: {}", escape_control(w));
@@ -445,8 +470,7 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
         if let Some(b) = &bar {
             b.set_length(total);
             b.set_position(done);
-            let secs = started.elapsed().as_secs_f64().max(1e-3);
-            b.set_message(format!("{:.2} Mrays/s", live.rays() as f64 / secs / 1e6));
+            b.set_message(speed_text(live.rays(), started.elapsed().as_secs_f64()));
         }
     };
     let result = match a.part.spec() {
@@ -469,11 +493,17 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     };
     // A Ctrl-C after the last tile still means "stop, write nothing".
     check_cancel(cancel)?;
+    // The work per ray is counted in a pass of its own, after the timed
+    // render, and only for the statistics file.
+    let counters = a
+        .stats
+        .as_ref()
+        .map(|_| cli_stats::camera_counters(&renderer));
     // Both outputs are written to temporary files first; they are renamed
     // into place only when both are complete, so a failure keeps both old
     // files byte for byte.
     WRITING.store(true, Ordering::SeqCst);
-    let written = write_outputs(a, &loaded, &renderer, &rendered, &stats, cancel);
+    let written = write_outputs(a, &loaded, &renderer, &rendered, &stats, counters, cancel);
     WRITING.store(false, Ordering::SeqCst);
     written?;
     if a.quiet {
@@ -485,6 +515,7 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
         threads: a.threads,
         primitives: renderer.primitive_count(),
         stats: &stats,
+        counters,
         output: &a.output,
     };
     put(out, &report.text());
@@ -507,6 +538,7 @@ fn write_outputs(
     renderer: &Renderer,
     rendered: &Rendered,
     stats: &RenderStats,
+    counters: Option<QueryCounters>,
     cancel: &AtomicBool,
 ) -> Result<()> {
     let (image_files, _) = stage_rendered(
@@ -522,11 +554,14 @@ fn write_outputs(
         threads: a.threads,
         primitives: renderer.primitive_count(),
         stats,
+        counters,
         output: &a.output,
     };
     let stats_file = match &a.stats {
         Some(p) => {
-            let json = serde_json::to_string_pretty(&report.json())
+            let json = report
+                .json()
+                .and_then(|v| serde_json::to_string_pretty(&v))
                 .map_err(|e| Error::output(p, format!("cannot encode statistics: {e}")))?;
             Some(stage(p, |f| {
                 f.write_all(json.as_bytes())?;
@@ -566,10 +601,13 @@ struct Report<'a> {
     threads: Option<u32>,
     primitives: usize,
     stats: &'a RenderStats,
+    /// Work per camera ray (with `--stats` only).
+    counters: Option<QueryCounters>,
     output: &'a Path,
 }
 
-/// The JSON statistics (`--stats`).
+/// The JSON statistics (`--stats`): these fields, the render's statistics
+/// (with the rays by kind as `rays_by_kind`) and [`Perf`]'s.
 #[derive(serde::Serialize)]
 struct StatsJson<'a> {
     scene: String,
@@ -577,7 +615,6 @@ struct StatsJson<'a> {
     width: u32,
     height: u32,
     spp: u32,
-    accel: &'static str,
     grid_m: f64,
     threads: Option<u32>,
     objects: usize,
@@ -585,14 +622,45 @@ struct StatsJson<'a> {
     primitives: usize,
     rays_total: u64,
     mrays_per_sec: f64,
-    /// `plan`, `build_time`, `render_time` (seconds), `rays`, `pixels_hit`, `grid`.
+    /// `plan`, `build_time`, `render_time` (seconds), `rays` (renamed
+    /// `rays_by_kind`), `pixels_hit`, `grid`.
     #[serde(flatten)]
     stats: &'a RenderStats,
     grid_occupancy: Option<f64>,
 }
 
 impl Report<'_> {
-    fn json(&self) -> StatsJson<'_> {
+    fn json(&self) -> serde_json::Result<serde_json::Value> {
+        let mut v = serde_json::to_value(self.base_json())?;
+        let perf = serde_json::to_value(self.perf())?;
+        if let (Some(o), serde_json::Value::Object(p)) = (v.as_object_mut(), perf) {
+            if let Some(by_kind) = o.remove("rays") {
+                o.insert("rays_by_kind".to_string(), by_kind);
+            }
+            o.extend(p);
+        }
+        Ok(v)
+    }
+
+    fn perf(&self) -> Perf {
+        let st = self.stats;
+        let c = self.counters.unwrap_or_default();
+        let trace_s = st.render_time.as_secs_f64();
+        Perf {
+            accel: cli_stats::chosen(self.accel.accel, st.grid.as_ref()),
+            accel_requested: self.accel.accel.name(),
+            build_s: st.build_time.as_secs_f64(),
+            trace_s,
+            rays: st.rays.total(),
+            hits: st.pixels_hit,
+            mrays_per_s: cli_stats::mrays(st.rays.total(), trace_s),
+            cells_per_ray: c.cells_per_ray(),
+            tests_per_ray: c.tests_per_ray(),
+            bytes: st.grid.as_ref().map_or(0, |g| g.bytes),
+        }
+    }
+
+    fn base_json(&self) -> StatsJson<'_> {
         let s = &self.loaded.scene;
         StatsJson {
             scene: self.loaded.source.display().to_string(),
@@ -600,7 +668,6 @@ impl Report<'_> {
             width: s.settings.width,
             height: s.settings.height,
             spp: s.settings.spp,
-            accel: self.accel.accel.name(),
             grid_m: crate::model::r64(self.accel.grid_config().m),
             threads: self.threads,
             objects: s.objects.len(),
@@ -629,7 +696,7 @@ impl Report<'_> {
         t += &format!("{}\n", st.plan);
         t += &format!(
             "accel       {} ({} primitives)\n",
-            accel_label(&self.accel),
+            accel_label(&self.accel, st.grid.as_ref()),
             self.primitives
         );
         if let Some(g) = &st.grid {
@@ -638,16 +705,29 @@ impl Report<'_> {
         t += &format!("build       {:.3} s\n", st.build_time.as_secs_f64());
         t += &format!("render      {:.3} s\n", st.render_time.as_secs_f64());
         t += &format!("rays        {}\n", st.rays);
-        t += &format!("speed       {:.2} Mrays/s\n", st.mrays_per_sec());
+        t += &format!(
+            "speed       {}\n",
+            speed_text(st.rays.total(), st.render_time.as_secs_f64())
+        );
         t += &format!("wrote       {}\n", self.output.display());
         t
     }
 }
 
-fn accel_label(a: &AccelArgs) -> String {
+/// The accelerator asked for and, for `auto`, what it chose.
+pub(crate) fn accel_label(a: &AccelArgs, g: Option<&GridStats>) -> String {
+    let built = cli_stats::chosen(a.accel, g);
+    let nest = match g {
+        Some(g) if g.nested_cells > 0 => format!(
+            ", nested grids in cells of at least {} references, {} levels",
+            g.nest_min_refs, g.nest_levels
+        ),
+        _ => String::new(),
+    };
     match a.accel {
         Accel::Exhaustive => "exhaustive".to_string(),
-        other => format!("{} (m = {})", other.name(), a.grid_config().m),
+        Accel::Auto => format!("auto: {built} (m = {}{nest})", a.grid_config().m),
+        other => format!("{} (m = {}{nest})", other.name(), a.grid_config().m),
     }
 }
 
@@ -798,7 +878,7 @@ fn info(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
     t += &format!("{}\n", renderer.plan());
     t += &format!(
         "accel       {} ({} primitives)\n",
-        accel_label(&a.accel),
+        accel_label(&a.accel, renderer.grid_stats()),
         renderer.primitive_count()
     );
     if let Some(g) = renderer.grid_stats() {
@@ -806,67 +886,5 @@ fn info(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
     }
     t += &format!("build       {:.3} s\n", renderer.build_time().as_secs_f64());
     put(out, &t);
-    Ok(())
-}
-
-/// Runs `f(true)` in a thread pool of its own, or `f(false)` on this thread
-/// when no pool can be started (a container's process limit): rayon's
-/// global pool would panic there.
-fn in_pool<R: Send>(f: impl FnOnce(bool) -> R + Send) -> R {
-    #[cfg(feature = "rayon")]
-    if let Ok(pool) = rayon::ThreadPoolBuilder::new().build() {
-        return pool.install(|| f(true));
-    }
-    f(false)
-}
-
-fn rays(a: &RaysArgs, out: &mut dyn Write) -> Result<()> {
-    if let Some(o) = &a.output {
-        check_output_dir(o)?;
-        check_outputs(&[("-o", o)], &[a.mesh.clone(), a.rays.clone()])?;
-    }
-    let sandbox = a.access.sandbox(Some(&a.mesh))?;
-    let model = load_model_in(&a.mesh, &sandbox)?;
-    warn(&model.warnings);
-    let bytes = sandbox.read(&a.rays)?;
-    if let Some(o) = &a.output {
-        check_outputs(&[("-o", o)], &sandbox.files_read())?;
-    }
-    let queries = parse_rays(&String::from_utf8_lossy(&bytes), &a.rays)?;
-    let tris: Vec<Triangle> = model
-        .triangles()
-        .map(|[p0, p1, p2]| Triangle::new(p0, p1, p2))
-        .collect();
-    let n_tris = tris.len();
-    let start = Instant::now();
-    let hits = in_pool(|parallel| match a.accel.accel {
-        Accel::Exhaustive => trace_rays(&Exhaustive::new(tris), &queries),
-        Accel::Grid | Accel::HashedGrid => {
-            let mut config = a.accel.grid_config();
-            config.parallel_build &= parallel;
-            trace_rays(&Grid::build(tris, &config), &queries)
-        }
-    });
-    let elapsed = start.elapsed();
-    let text = format_hits(&hits);
-    match &a.output {
-        Some(p) => write_atomic(p, |f| f.write_all(text.as_bytes()))?,
-        None => out
-            .write_all(text.as_bytes())
-            .and_then(|()| out.flush())
-            .map_err(|e| Error::Write {
-                path: PathBuf::from("<standard output>"),
-                source: e,
-            })?,
-    }
-    if std::io::stderr().is_terminal() {
-        let n_hit = hits.iter().filter(|h| h.is_some()).count();
-        eprintln!(
-            "{} rays, {n_hit} hits, {n_tris} triangles, {}: {:.3} s (build and trace)",
-            queries.len(),
-            accel_label(&a.accel),
-            elapsed.as_secs_f64()
-        );
-    }
     Ok(())
 }

@@ -109,6 +109,30 @@ pub fn trace_rays<A: Accelerator>(accel: &A, rays: &[RayQuery]) -> Vec<Option<Hi
         .collect()
 }
 
+/// Answers every query, in order: on the current rayon pool when
+/// `parallel` (in chunks of [`CHUNK`] rays, so the answers and their order
+/// do not depend on the thread count), else on this thread.
+pub fn trace_rays_on<A: Accelerator + Sync>(
+    accel: &A,
+    rays: &[RayQuery],
+    parallel: bool,
+) -> Vec<Option<Hit>> {
+    #[cfg(feature = "rayon")]
+    if parallel && rays.len() > CHUNK {
+        use rayon::prelude::*;
+        let parts: Vec<Vec<Option<Hit>>> = rays
+            .par_chunks(CHUNK)
+            .map(|c| trace_rays(accel, c))
+            .collect();
+        return parts.concat();
+    }
+    let _ = parallel;
+    trace_rays(accel, rays)
+}
+
+/// Rays per parallel task of [`trace_rays_on`].
+pub const CHUNK: usize = 1024;
+
 /// Formats answers as the output CSV: `t,triangle,u,v` or `miss` per line.
 /// Numbers use the shortest text that reads back to the same value.
 #[must_use]
@@ -157,6 +181,46 @@ mod tests {
         assert!(err("0,0,0,1,0,0,5,1\n").contains("greater than"));
         assert!(err("nan,0,0,1,0,0\n").contains("NaN"));
         assert!(err("inf,0,0,1,0,0\n").contains("finite"));
+    }
+
+    #[test]
+    fn parallel_answers_equal_sequential_ones() {
+        use gridrt_grid::Exhaustive;
+        use gridrt_tracer::Triangle;
+        let tris: Vec<Triangle> = (0..40)
+            .map(|i| {
+                let z = -(i as Real);
+                Triangle::new(
+                    Vec3::new(-1.0, -1.0, z),
+                    Vec3::new(1.0, -1.0, z),
+                    Vec3::new(0.0, 1.0, z - 0.5),
+                )
+            })
+            .collect();
+        let e = Exhaustive::new(tris);
+        let rays: Vec<RayQuery> = (0..3000)
+            .map(|k| {
+                let x = (k % 50) as Real / 25.0 - 1.0;
+                let y = (k / 50) as Real / 30.0 - 1.0;
+                RayQuery {
+                    ray: Ray::new(Vec3::new(x, y, 1.0), Vec3::new(0.01, 0.0, -1.0)),
+                    t_min: 0.0,
+                    t_max: Real::INFINITY,
+                }
+            })
+            .collect();
+        let one = trace_rays_on(&e, &rays, false);
+        #[cfg(feature = "rayon")]
+        {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(3)
+                .build()
+                .unwrap();
+            let many = pool.install(|| trace_rays_on(&e, &rays, true));
+            assert_eq!(one, many);
+        }
+        assert_eq!(one.len(), rays.len());
+        assert!(one.iter().any(Option::is_some) && one.iter().any(Option::is_none));
     }
 
     #[test]

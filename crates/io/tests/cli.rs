@@ -71,7 +71,8 @@ fn render_subcommand_exr_and_stats() {
     assert_eq!(json["width"], 32);
     assert_eq!(json["spp"], 1);
     assert_eq!(json["accel"], "grid");
-    assert!(json["rays"]["camera"].as_u64().unwrap() == 32 * 24);
+    assert_eq!(json["accel_requested"], "auto");
+    assert!(json["rays_by_kind"]["camera"].as_u64().unwrap() == 32 * 24);
     assert!(json["plan"]["shadows"].as_bool().unwrap());
     assert!(json["render_time"].as_f64().is_some());
     assert!(json["grid"]["dims"].is_array());
@@ -82,7 +83,14 @@ fn render_a_fixture_scene_and_a_model_with_each_accelerator() {
     let dir = tempfile::tempdir().unwrap();
     let scene = fixture("scenes/obj_cube_transform.ron");
     let fixtures = crate::fixtures();
-    for accel in ["grid", "hashed-grid", "dense-grid", "exhaustive"] {
+    for accel in [
+        "auto",
+        "grid",
+        "hierarchy",
+        "hashed-grid",
+        "dense-grid",
+        "exhaustive",
+    ] {
         let out = format!("{accel}.png");
         let o = gridrt(
             &[
@@ -250,7 +258,14 @@ fn rays_on_a_tiny_mesh_give_the_known_answers() {
     let rays = fixture("meshes/generated/tri_rays.csv");
     let expected =
         std::fs::read_to_string(fixture("meshes/generated/tri_rays.expected.csv")).unwrap();
-    for accel in ["grid", "hashed-grid", "dense-grid", "exhaustive"] {
+    for accel in [
+        "auto",
+        "grid",
+        "hierarchy",
+        "hashed-grid",
+        "dense-grid",
+        "exhaustive",
+    ] {
         let o = gridrt(
             &[
                 "rays",

@@ -16,6 +16,7 @@ mod normals;
 mod passes;
 mod ply;
 mod shared;
+mod stats;
 mod untrusted;
 mod untrusted_messages;
 mod untrusted_outputs;

@@ -1,0 +1,174 @@
+//! `gridrt rays`: batch closest-hit queries against a mesh, with the
+//! build and the query loop timed apart and, with `--stats`, the work per
+//! ray counted in a pass of its own.
+
+use crate::cli::{accel_label, check_outputs, warn, Accel, RaysArgs};
+use crate::cli_stats::{self, speed_text, Perf, RaysJson};
+use crate::error::{Error, Result};
+use crate::image_out::{check_output_dir, stage, write_atomic};
+use crate::model::load_model_in;
+use crate::rays::{format_hits, parse_rays, trace_rays_on};
+use gridrt_grid::{Exhaustive, Grid, GridStats, QueryCounters};
+use gridrt_tracer::Triangle;
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Runs `f(true)` in a thread pool of its own (`threads` workers, or one
+/// per core), or `f(false)` on this thread when no pool can be started (a
+/// container's process limit): rayon's global pool would panic there.
+fn in_pool<R: Send>(threads: Option<u32>, f: impl FnOnce(bool) -> R + Send) -> R {
+    #[cfg(feature = "rayon")]
+    if let Ok(pool) = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.map_or(0, |t| t as usize))
+        .build()
+    {
+        return pool.install(|| f(true));
+    }
+    #[cfg(not(feature = "rayon"))]
+    let _ = threads;
+    f(false)
+}
+
+/// Runs `gridrt rays`.
+///
+/// # Errors
+/// Any [`Error`] of loading, parsing or writing.
+pub(crate) fn rays(a: &RaysArgs, out: &mut dyn Write) -> Result<()> {
+    let mut outputs = Vec::new();
+    if let Some(o) = &a.output {
+        check_output_dir(o)?;
+        outputs.push(("-o", o.as_path()));
+    }
+    if let Some(s) = &a.stats {
+        check_output_dir(s)?;
+        outputs.push(("--stats", s.as_path()));
+    }
+    check_outputs(&outputs, &[a.mesh.clone(), a.rays.clone()])?;
+    let sandbox = a.access.sandbox(Some(&a.mesh))?;
+    let model = load_model_in(&a.mesh, &sandbox)?;
+    warn(&model.warnings);
+    let bytes = sandbox.read(&a.rays)?;
+    check_outputs(&outputs, &sandbox.files_read())?;
+    let queries = parse_rays(&String::from_utf8_lossy(&bytes), &a.rays)?;
+    let tris: Vec<Triangle> = model
+        .triangles()
+        .map(|[p0, p1, p2]| Triangle::new(p0, p1, p2))
+        .collect();
+    let n_tris = tris.len();
+    let want_counts = a.stats.is_some();
+    let (run, threads) = in_pool(a.threads, |parallel| {
+        let threads = if parallel { rayon_threads() } else { 1 };
+        let run = match a.accel.accel {
+            Accel::Exhaustive => {
+                let (e, build) = timed(|| Exhaustive::new(tris));
+                let (hits, trace) = timed(|| trace_rays_on(&e, &queries, parallel));
+                let c = want_counts.then(|| cli_stats::count_exhaustive(&e, &queries));
+                RaysRun {
+                    hits,
+                    build,
+                    trace,
+                    counters: c,
+                    grid: None,
+                }
+            }
+            _ => {
+                let mut config = a.accel.grid_config();
+                config.parallel_build &= parallel;
+                let (g, build) = timed(|| Grid::build(tris, &config));
+                let (hits, trace) = timed(|| trace_rays_on(&g, &queries, parallel));
+                let c = want_counts.then(|| cli_stats::count_grid(&g, &queries));
+                let stats = g.stats().clone();
+                RaysRun {
+                    hits,
+                    build,
+                    trace,
+                    counters: c,
+                    grid: Some(stats),
+                }
+            }
+        };
+        (run, threads)
+    });
+    let n_hit = run.hits.iter().filter(|h| h.is_some()).count() as u64;
+    let text = format_hits(&run.hits);
+    let stats_file = match &a.stats {
+        Some(p) => {
+            let c = run.counters.unwrap_or_default();
+            let n = queries.len() as u64;
+            let json = RaysJson {
+                mesh: a.mesh.display().to_string(),
+                rays_file: a.rays.display().to_string(),
+                triangles: n_tris,
+                threads,
+                perf: Perf {
+                    accel: cli_stats::chosen(a.accel.accel, run.grid.as_ref()),
+                    accel_requested: a.accel.accel.name(),
+                    build_s: run.build.as_secs_f64(),
+                    trace_s: run.trace.as_secs_f64(),
+                    rays: n,
+                    hits: n_hit,
+                    mrays_per_s: cli_stats::mrays(n, run.trace.as_secs_f64()),
+                    cells_per_ray: c.cells_per_ray(),
+                    tests_per_ray: c.tests_per_ray(),
+                    bytes: run.grid.as_ref().map_or(0, |g| g.bytes),
+                },
+                grid: run.grid.as_ref().map(cli_stats::GridJson::new),
+            };
+            let json = serde_json::to_string_pretty(&json)
+                .map_err(|e| Error::output(p, format!("cannot encode statistics: {e}")))?;
+            Some(stage(p, |f| {
+                f.write_all(json.as_bytes())?;
+                f.write_all(b"\n")
+            })?)
+        }
+        None => None,
+    };
+    match &a.output {
+        Some(p) => write_atomic(p, |f| f.write_all(text.as_bytes()))?,
+        None => out
+            .write_all(text.as_bytes())
+            .and_then(|()| out.flush())
+            .map_err(|e| Error::Write {
+                path: PathBuf::from("<standard output>"),
+                source: e,
+            })?,
+    }
+    if let Some(f) = stats_file {
+        f.commit()?;
+    }
+    if std::io::stderr().is_terminal() {
+        eprintln!(
+            "{} rays, {n_hit} hits, {n_tris} triangles, {} on {threads} threads: build {:.3} s, trace {:.3} s ({})",
+            queries.len(),
+            accel_label(&a.accel, run.grid.as_ref()),
+            run.build.as_secs_f64(),
+            run.trace.as_secs_f64(),
+            speed_text(queries.len() as u64, run.trace.as_secs_f64())
+        );
+    }
+    Ok(())
+}
+
+/// What `gridrt rays` measured.
+struct RaysRun {
+    hits: Vec<Option<gridrt_grid::Hit>>,
+    build: std::time::Duration,
+    trace: std::time::Duration,
+    counters: Option<QueryCounters>,
+    grid: Option<GridStats>,
+}
+
+fn timed<R>(f: impl FnOnce() -> R) -> (R, std::time::Duration) {
+    let start = Instant::now();
+    let r = f();
+    (r, start.elapsed())
+}
+
+/// The current pool's worker count.
+fn rayon_threads() -> usize {
+    #[cfg(feature = "rayon")]
+    return rayon::current_num_threads();
+    #[cfg(not(feature = "rayon"))]
+    1
+}
