@@ -5,16 +5,17 @@ use crate::cli_outputs::{
     pass_paths, render_part, render_watched, save_interrupted, stage_rendered, Rendered,
 };
 pub use crate::cli_outputs::{AovArgs, AovList, DiffArgs, MergeArgs, PartArgs, PartialArgs};
+pub use crate::cli_robustness::{IntersectArgs, OffsetArgs, SlabArg, TriangleTestArg};
 use crate::error::{escape_control, Error, Result};
 use crate::image_out::{check_image_path, check_output_dir, stage, write_atomic};
 use crate::model::load_model_in;
 use crate::model_scene::apply_overrides;
-use crate::rays::{format_hits, parse_rays, trace_rays};
+use crate::rays::{format_hits, parse_rays};
 use crate::sandbox::Sandbox;
 use crate::scene::{default_scene, load_scene_in, LoadedScene, DEFAULT_SCENE_NAME};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use gridrt_bbox::{Aabb, Real, Vec3};
-use gridrt_grid::{CellStorage, Exhaustive, Grid, GridConfig, GridStats};
+use gridrt_grid::{CellStorage, GridConfig, GridStats};
 use gridrt_tracer::{
     AccelKind, Geometry, Light, Projection, RenderOptions, RenderStats, Renderer, Scene, Triangle,
 };
@@ -97,6 +98,12 @@ pub struct RenderArgs {
     /// Accelerator options.
     #[command(flatten)]
     pub accel: AccelArgs,
+    /// Intersection tests and the grid's optional work.
+    #[command(flatten)]
+    pub intersect: IntersectArgs,
+    /// How secondary rays leave surfaces.
+    #[command(flatten)]
+    pub offset: OffsetArgs,
     /// File access and budgets.
     #[command(flatten)]
     pub access: AccessArgs,
@@ -132,6 +139,9 @@ pub struct RaysArgs {
     /// Accelerator options.
     #[command(flatten)]
     pub accel: AccelArgs,
+    /// Intersection tests and the grid's optional work.
+    #[command(flatten)]
+    pub intersect: IntersectArgs,
     /// File access and budgets.
     #[command(flatten)]
     pub access: AccessArgs,
@@ -261,7 +271,7 @@ fn parse_grid_m(s: &str) -> std::result::Result<f64, String> {
 }
 
 impl AccelArgs {
-    fn grid_config(&self) -> GridConfig {
+    pub(crate) fn grid_config(&self) -> GridConfig {
         let mut g = GridConfig::default();
         if let Some(m) = self.grid_m {
             g.m = m as Real;
@@ -282,6 +292,7 @@ impl AccelArgs {
             accel: self.accel.kind(),
             grid: self.grid_config(),
             threads: threads.map(|t| t as usize),
+            ..RenderOptions::default()
         }
     }
 }
@@ -420,7 +431,7 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     check_cancel(cancel)?;
     warn(&loaded.warnings);
     apply_overrides(&mut loaded.scene.settings, a.width, a.height, a.spp)?;
-    let options = a.accel.options(a.threads);
+    let options = a.intersect.options(a.accel.options(a.threads), &a.offset);
     let renderer = Renderer::new(&loaded.scene, &options).map_err(|e| Error::Render {
         path: loaded.source.clone(),
         msg: e.to_string(),
@@ -470,6 +481,7 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     let report = Report {
         loaded: &loaded,
         accel: a.accel,
+        robust: a.intersect.label(Some(&a.offset)),
         threads: a.threads,
         primitives: renderer.primitive_count(),
         stats: &stats,
@@ -507,6 +519,7 @@ fn write_outputs(
     let report = Report {
         loaded,
         accel: a.accel,
+        robust: a.intersect.label(Some(&a.offset)),
         threads: a.threads,
         primitives: renderer.primitive_count(),
         stats,
@@ -551,6 +564,8 @@ fn progress_bar() -> Option<indicatif::ProgressBar> {
 struct Report<'a> {
     loaded: &'a LoadedScene,
     accel: AccelArgs,
+    /// The robustness switches turned off (empty: the defaults).
+    robust: String,
     threads: Option<u32>,
     primitives: usize,
     stats: &'a RenderStats,
@@ -567,6 +582,9 @@ struct StatsJson<'a> {
     spp: u32,
     accel: &'static str,
     grid_m: f64,
+    /// The robustness switches that differ from the defaults, comma
+    /// separated (empty: all robust defaults).
+    robustness: &'a str,
     threads: Option<u32>,
     objects: usize,
     triangles: usize,
@@ -590,6 +608,7 @@ impl Report<'_> {
             spp: s.settings.spp,
             accel: self.accel.accel.name(),
             grid_m: crate::model::r64(self.accel.grid_config().m),
+            robustness: &self.robust,
             threads: self.threads,
             objects: s.objects.len(),
             triangles: triangle_count(s),
@@ -620,6 +639,9 @@ impl Report<'_> {
             accel_label(&self.accel),
             self.primitives
         );
+        if !self.robust.is_empty() {
+            t += &format!("robustness  off: {}\n", self.robust);
+        }
         if let Some(g) = &st.grid {
             t += &grid_line(g);
         }
@@ -827,14 +849,7 @@ fn rays(a: &RaysArgs, out: &mut dyn Write) -> Result<()> {
         .collect();
     let n_tris = tris.len();
     let start = Instant::now();
-    let hits = in_pool(|parallel| match a.accel.accel {
-        Accel::Exhaustive => trace_rays(&Exhaustive::new(tris), &queries),
-        Accel::Grid | Accel::HashedGrid => {
-            let mut config = a.accel.grid_config();
-            config.parallel_build &= parallel;
-            trace_rays(&Grid::build(tris, &config), &queries)
-        }
-    });
+    let hits = in_pool(|parallel| a.intersect.trace(tris, &queries, &a.accel, parallel));
     let elapsed = start.elapsed();
     let text = format_hits(&hits);
     match &a.output {

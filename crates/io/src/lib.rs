@@ -54,6 +54,7 @@ mod aov_out;
 pub mod cli;
 #[cfg(feature = "cli")]
 mod cli_outputs;
+mod cli_robustness;
 mod diff;
 mod error;
 mod image_out;

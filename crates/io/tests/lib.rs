@@ -13,6 +13,7 @@ mod fixture_scenes;
 mod full_precision;
 mod models;
 mod passes;
+mod robustness_switches;
 mod shared;
 mod untrusted;
 mod untrusted_messages;

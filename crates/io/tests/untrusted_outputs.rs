@@ -270,9 +270,7 @@ fn a_shared_sparse_accessor_without_a_view_is_read_once_and_counted() {
     // is made.
     let prims: Vec<&str> = vec![r#"{"attributes": {"POSITION": 1}}"#; 50];
     let f = dir.join("sparse.gltf");
-    let text = gltf(&format!(
-        r#""nodes": [{{"mesh": 1}}], "scenes": [{{"nodes": [0]}}]"#
-    ))
+    let text = gltf(r#""nodes": [{"mesh": 1}], "scenes": [{"nodes": [0]}]"#)
     .replace(
         r#""meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}]"#,
         &format!(

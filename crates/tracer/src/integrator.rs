@@ -1,9 +1,10 @@
 //! Light transport: the shading data of a prepared scene and the Whitted
 //! integrator, specialised at compile time on the effects of the plan.
 
-use crate::float::{offset_ray_origin, to_f32};
+use crate::float::to_f32;
 use crate::optics::{fresnel_dielectric, reflect, refract};
 use crate::plan::RayCounts;
+use crate::robustness::RayOffset;
 use crate::scene::{Material, Rgb};
 use crate::shapes::{Plane, Surface, SurfacePoint};
 use gridrt_bbox::{gamma, Ray, Real, Vec3};
@@ -94,6 +95,8 @@ pub(crate) struct SceneData {
     pub lights: Vec<DirectLight>,
     pub background: Rgb,
     pub max_depth: u32,
+    /// How secondary rays leave surfaces (`RenderOptions::ray_offset`).
+    pub ray_offset: RayOffset,
 }
 
 /// What a ray found: a grid primitive or a plane.
@@ -422,7 +425,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
                 );
                 if REFLECT && depth < tr.data.max_depth && kr != 0.0 {
                     let wr = reflect(wo, ns);
-                    let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wr);
+                    let origin = tr.data.ray_offset.origin(sh.sp.p, sh.sp.p_err, ng, wr);
                     ts.counts.reflection += 1;
                     l += cr * kr * Self::li(tr, &Ray::new(origin, wr), depth + 1, ts).color;
                 }
@@ -522,11 +525,11 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
                     DirectLight::Point {
                         position, shadows, ..
                     } => {
-                        let o = offset_ray_origin(sp.p, sp.p_err, ng, wi);
+                        let o = tr.data.ray_offset.origin(sp.p, sp.p_err, ng, wi);
                         (shadows, (Ray::new(o, position - o), point_shadow_t_max()))
                     }
                     DirectLight::Directional { shadows, .. } => {
-                        let o = offset_ray_origin(sp.p, sp.p_err, ng, wi);
+                        let o = tr.data.ray_offset.origin(sp.p, sp.p_err, ng, wi);
                         (shadows, (Ray::new(o, wi), Real::INFINITY))
                     }
                 };
@@ -591,7 +594,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
         let mut l = Rgb::ZERO;
         if REFLECT && fr > 0.0 {
             let wr = reflect(wo, ns);
-            let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wr);
+            let origin = tr.data.ray_offset.origin(sh.sp.p, sh.sp.p_err, ng, wr);
             ts.counts.reflection += 1;
             let li = Self::li(tr, &Ray::new(origin, wr), depth + 1, ts);
             // A reflection from the inside stays inside.
@@ -599,7 +602,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
         }
         if fr < 1.0 {
             if let Some(wt) = refract(wo, ns, eta) {
-                let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wt);
+                let origin = tr.data.ray_offset.origin(sh.sp.p, sh.sp.p_err, ng, wt);
                 ts.counts.refraction += 1;
                 let li = Self::li(tr, &Ray::new(origin, wt), depth + 1, ts);
                 let scale = (1.0 - fr) / to_f32(eta * eta);

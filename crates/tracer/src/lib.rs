@@ -74,11 +74,13 @@ mod float;
 mod framebuffer;
 pub mod hard_meshes;
 mod integrator;
+pub mod offset_scenes;
 pub mod optics;
 mod plan;
 mod pool;
 mod prepare;
 mod render;
+mod robustness;
 mod sampler;
 pub mod scene;
 #[cfg(feature = "serde")]
@@ -93,10 +95,11 @@ pub use gridrt_grid::Accelerator;
 pub use plan::{EffectPlan, IntegratorKind, RayCounts};
 pub use prepare::{SphereSet, MAX_PIXELS};
 pub use render::{render, AccelKind, RenderOptions, RenderStats, Renderer};
+pub use robustness::{RayOffset, TriangleTest};
 pub use scene::{
     Camera, Geometry, Light, Material, MaterialId, Mesh, Object, Projection, Rgb, Scene, Settings,
 };
-pub use shapes::{Cuboid, Plane, Shape, Sphere, Triangle};
+pub use shapes::{Cuboid, MtTriangle, Plane, Shape, Sphere, Triangle, MT_EPSILON};
 
 /// The README's Rust examples, compiled and run as doc tests.
 #[cfg(doctest)]
