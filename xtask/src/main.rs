@@ -13,7 +13,13 @@
 //! - `cargo xtask speedup-table [--sizes ...] [--runs R] [--threads T]
 //!   [--full] [--out DIR]` regenerates Suffern's grid vs exhaustive table
 //!   (`docs/speedup-table.md`) and its plot (`docs/speedup.svg`).
+//! - `cargo xtask accuracy [--quick] [--runs R] [--out DIR] [--no-precision]`
+//!   measures what accuracy costs (`docs/accuracy.md`, `docs/accuracy-spp.svg`).
 
+mod accuracy;
+mod accuracy_plot;
+mod accuracy_precision;
+mod accuracy_studies;
 mod bitdiff;
 #[cfg(feature = "embree")]
 mod embree;
@@ -46,6 +52,9 @@ enum Task {
     /// Regenerate Suffern's grid vs exhaustive speed-up table
     /// (docs/speedup-table.md, docs/speedup.svg).
     SpeedupTable(speedup::Args),
+    /// Measure what accuracy costs in time and what is lost without it
+    /// (docs/accuracy.md, docs/accuracy-spp.svg).
+    Accuracy(accuracy::Args),
 }
 
 /// What a task reports when it ran to the end: whether every check passed.
@@ -56,6 +65,7 @@ fn main() -> ExitCode {
     let outcome = match cli.task {
         Task::Regress(args) => regress::run(&args),
         Task::SpeedupTable(args) => speedup::run(&args),
+        Task::Accuracy(args) => accuracy::run(&args),
     };
     match outcome {
         Ok(true) => ExitCode::SUCCESS,
