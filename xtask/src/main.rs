@@ -15,7 +15,13 @@
 //!   (`docs/speedup-table.md`) and its plot (`docs/speedup.svg`).
 //! - `cargo xtask scenes [--only NAME,...] [--runs R] [--no-embree]` measures
 //!   the scene corpus beside Embree (`docs/scenes.md`, `docs/scenes.svg`).
+//! - `cargo xtask accuracy [--quick] [--runs R] [--out DIR] [--no-precision]`
+//!   measures what accuracy costs (`docs/accuracy.md`, `docs/accuracy-spp.svg`).
 
+mod accuracy;
+mod accuracy_plot;
+mod accuracy_precision;
+mod accuracy_studies;
 mod bitdiff;
 mod corpus;
 #[cfg(feature = "embree")]
@@ -56,6 +62,9 @@ enum Task {
     /// Measure the scene corpus beside Embree (docs/scenes.md,
     /// docs/scenes.svg).
     Scenes(scenes::Args),
+    /// Measure what accuracy costs in time and what is lost without it
+    /// (docs/accuracy.md, docs/accuracy-spp.svg).
+    Accuracy(accuracy::Args),
 }
 
 /// What a task reports when it ran to the end: whether every check passed.
@@ -67,6 +76,7 @@ fn main() -> ExitCode {
         Task::Regress(args) => regress::run(&args),
         Task::SpeedupTable(args) => speedup::run(&args),
         Task::Scenes(args) => scenes::run(&args),
+        Task::Accuracy(args) => accuracy::run(&args),
     };
     match outcome {
         Ok(true) => ExitCode::SUCCESS,

@@ -41,6 +41,7 @@ fn options(accel: AccelKind, grid: GridConfig, threads: usize) -> RenderOptions 
         accel,
         grid,
         threads: Some(threads),
+        ..RenderOptions::default()
     }
 }
 

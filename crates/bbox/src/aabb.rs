@@ -310,6 +310,61 @@ impl Aabb {
             None
         }
     }
+
+    /// The textbook slab test (Williams et al. 2005; Suffern's `BBox::hit`):
+    /// the reciprocals go straight into min/max, with no special case and
+    /// no widening. For measuring what [`Aabb::hit`] costs, behind
+    /// [`SlabTest::Textbook`]; never the default.
+    ///
+    /// What it risks: an origin exactly on a slab plane with a zero
+    /// direction component computes `0·∞ = NaN`, and how `min`/`max`
+    /// treat that NaN decides the answer (a ray lying in a face of the box
+    /// can be culled); the exit is not widened, so a ray that touches the
+    /// box within rounding can be culled too.
+    ///
+    /// ```
+    /// use gridrt_bbox::{Aabb, Ray, Vec3};
+    /// let b = Aabb::new(Vec3::ZERO, Vec3::ONE);
+    /// let r = Ray::new(Vec3::new(0.5, 0.5, -1.0), Vec3::Z);
+    /// assert_eq!(b.hit_textbook(&r, 0.0, 10.0), Some((1.0, 2.0)));
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn hit_textbook(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<(Real, Real)> {
+        let t_lo = (self.min - ray.origin) * ray.inv_dir;
+        let t_hi = (self.max - ray.origin) * ray.inv_dir;
+        let near = t_lo.min(t_hi).max_element().max(t_min);
+        let far = t_lo.max(t_hi).min_element().min(t_max);
+        (near <= far).then_some((near, far))
+    }
+
+    /// The slab test `test` names: [`Aabb::hit`] or [`Aabb::hit_textbook`].
+    #[inline]
+    #[must_use]
+    pub fn hit_with(
+        &self,
+        test: SlabTest,
+        ray: &Ray,
+        t_min: Real,
+        t_max: Real,
+    ) -> Option<(Real, Real)> {
+        match test {
+            SlabTest::Robust => self.hit(ray, t_min, t_max),
+            SlabTest::Textbook => self.hit_textbook(ray, t_min, t_max),
+        }
+    }
+}
+
+/// Which ray–box slab test a query uses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum SlabTest {
+    /// [`Aabb::hit`]: parallel slabs tested directly (no `0·∞`), the exit
+    /// widened by 2·γ(3). The default.
+    #[default]
+    Robust,
+    /// [`Aabb::hit_textbook`]: reciprocals straight into min/max. Can cull
+    /// rays that lie in a face of the box or graze it.
+    Textbook,
 }
 
 #[cfg(test)]
@@ -404,6 +459,25 @@ mod tests {
         ] {
             assert!(!b.contains(p), "{p:?}");
         }
+    }
+
+    #[test]
+    fn textbook_test_culls_a_ray_in_a_face_that_the_robust_test_keeps() {
+        // Origin on the plane x = 0 with a zero x component: (0 − 0)·∞ is
+        // NaN in the textbook test, and `min`/`max` drop the box.
+        let r = Ray::new(Vec3::new(0.0, 0.5, -1.0), Vec3::new(0.0, 0.0, 1.0));
+        assert_eq!(unit().hit(&r, 0.0, INF).map(|t| t.0), Some(1.0));
+        assert_eq!(unit().hit_textbook(&r, 0.0, INF), None);
+        assert_eq!(unit().hit_with(SlabTest::Textbook, &r, 0.0, INF), None);
+        assert!(unit().hit_with(SlabTest::Robust, &r, 0.0, INF).is_some());
+        // Elsewhere both agree but for the robust exit's widening.
+        let r = Ray::new(Vec3::new(0.5, 0.25, -1.0), Vec3::new(0.1, 0.2, 1.0));
+        let (a, b) = (
+            unit().hit(&r, 0.0, INF).unwrap(),
+            unit().hit_textbook(&r, 0.0, INF).unwrap(),
+        );
+        assert_eq!(a.0, b.0);
+        assert!(a.1 >= b.1 && a.1 <= b.1 * (1.0 + 4.0 * gamma(3)));
     }
 
     #[test]

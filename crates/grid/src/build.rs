@@ -158,7 +158,8 @@ pub(crate) fn build<P: Primitive>(
     let cells_cap = max_cells.min((budget / 9).max(1) as u64);
     dims = geom::cap_cells(dims.map(u64::from), cells_cap);
     loop {
-        let g = Geom::new(bounds, dims);
+        let mut g = Geom::new(bounds, dims);
+        g.slab = config.slab;
         match build_cells(prims, &g, config, ref_limit, renumber, unbounded.is_empty()) {
             Some(((cells, refs, spread, occupied, max_refs), ids)) => {
                 return Built {

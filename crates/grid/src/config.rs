@@ -1,4 +1,4 @@
-use gridrt_bbox::Real;
+use gridrt_bbox::{Real, SlabTest};
 use std::time::Duration;
 
 /// How the grid stores its cells.
@@ -111,6 +111,13 @@ pub struct GridConfig {
     /// budget stops subdividing, never fails. A budget below what one
     /// reference per primitive needs (a single cell) is raised to that.
     pub memory_budget: Option<usize>,
+    /// The ray–box test that decides where a ray enters the grid (and each
+    /// nested grid): [`SlabTest::Robust`] (the default) or the textbook
+    /// test, which can cull a ray lying in a face of the grid's box (an
+    /// origin on the plane and a zero direction component give
+    /// `0·∞ = NaN`). The textbook test is there to measure what the robust
+    /// one costs.
+    pub slab: SlabTest,
 }
 
 /// [`GridConfig::auto`]: a cell gets a nested grid only if it holds at
@@ -190,6 +197,7 @@ impl Default for GridConfig {
             nest_m: None,
             auto: true,
             memory_budget: None,
+            slab: SlabTest::Robust,
         }
     }
 }

@@ -181,7 +181,8 @@ impl<'g> Dda<'g> {
     /// grid in that range (or the range is empty or NaN).
     ///
     /// The entry point is found with the robust (conservative) `Aabb::hit`
-    /// on the grid box widened by the insertion pad. Its cell index is
+    /// on the grid box widened by the insertion pad (or the textbook test
+    /// when [`crate::GridConfig::slab`] asks for it). Its cell index is
     /// clamped to `[0, n − 1]`, so an entry exactly on the grid's max face
     /// starts in the last cell. An axis along which the ray does not move (a
     /// direction component of ±0, or one whose reciprocal overflows, such as
@@ -192,7 +193,7 @@ impl<'g> Dda<'g> {
         if g.is_empty() || !(t_min <= t_max) {
             return None;
         }
-        let (t0, t1) = g.entry.hit(ray, t_min, t_max)?;
+        let (t0, t1) = g.entry.hit_with(g.slab, ray, t_min, t_max)?;
         let mut d = Dda {
             next: [g.walk[0].as_ptr(), g.walk[1].as_ptr(), g.walk[2].as_ptr()],
             base: [g.walk[0].as_ptr(), g.walk[1].as_ptr(), g.walk[2].as_ptr()],

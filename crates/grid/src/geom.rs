@@ -3,7 +3,7 @@
 //! where a cell begins and ends.
 
 use crate::morton;
-use gridrt_bbox::{Aabb, Real, Vec3};
+use gridrt_bbox::{Aabb, Real, SlabTest, Vec3};
 
 /// The insertion pad, in units of `Real::EPSILON` times the largest extent
 /// of the (outermost) grid box. It absorbs the rounding that grows with the
@@ -46,6 +46,8 @@ pub(crate) struct Geom {
     exact_planes: bool,
     /// The grid box widened by the pad: what a ray must hit to enter.
     pub entry: Aabb,
+    /// The slab test that decides the entry ([`crate::GridConfig::slab`]).
+    pub slab: SlabTest,
     /// `inv_cell` as a vector.
     pub inv: Vec3,
     /// `dims − 1` per axis, as a vector.
@@ -67,6 +69,7 @@ impl Geom {
             pad: 0.0,
             exact_planes: false,
             entry: Aabb::EMPTY,
+            slab: SlabTest::Robust,
             inv: Vec3::ZERO,
             last: Vec3::ZERO,
             walk: [Box::new([]), Box::new([]), Box::new([])],
@@ -104,6 +107,7 @@ impl Geom {
             pad,
             exact_planes: false,
             entry: bounds,
+            slab: SlabTest::Robust,
             inv: Vec3::from_array(inv_cell),
             last: Vec3::new(
                 (dims[0] - 1) as Real,

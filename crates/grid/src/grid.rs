@@ -215,6 +215,7 @@ impl<P: Primitive> Grid<P> {
             budget: budget.saturating_sub(flat_bytes),
             parallel: config.parallel_build,
             pad: grid.geom.pad,
+            slab: config.slab,
         };
         let nested = Nested::build(grid.slots(), &grid.geom, &grid.refs, crowded, &params);
         grid.nested = nested;

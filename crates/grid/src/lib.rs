@@ -121,7 +121,7 @@ pub use counters::{Counters, NoCounters, QueryCounters};
 pub use dda::{CellIter, CellVisit};
 pub use exhaustive::Exhaustive;
 pub use grid::{Grid, GridScratch};
-pub use gridrt_bbox::{Aabb, Ray, Real, Vec3};
+pub use gridrt_bbox::{Aabb, Ray, Real, SlabTest, Vec3};
 pub use order::spatial_order;
 
 /// The README's Rust examples, compiled and run as doc tests.

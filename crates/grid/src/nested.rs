@@ -68,6 +68,8 @@ pub(crate) struct NestParams {
     pub parallel: bool,
     /// The outermost grid's extent part of the insertion pad.
     pub pad: Real,
+    /// The slab test of the walk's entry ([`crate::GridConfig::slab`]).
+    pub slab: gridrt_bbox::SlabTest,
 }
 
 /// The nested grid of one crowded cell.
@@ -466,7 +468,8 @@ fn plan<P: Primitive>(
     if dims == [1, 1, 1] {
         return None;
     }
-    let geom = Geom::new(cell, dims).with_pad(p.pad);
+    let mut geom = Geom::new(cell, dims).with_pad(p.pad);
+    geom.slab = p.slab;
     let count = geom.cell_count() as usize;
     let ranges: Vec<(u32, CellRange)> = inner
         .iter()

@@ -6,8 +6,9 @@ use crate::cli_outputs::{
     pass_paths, render_part, render_watched, save_interrupted, stage_rendered, Rendered,
 };
 pub use crate::cli_outputs::{AovArgs, AovList, DiffArgs, MergeArgs, PartArgs, PartialArgs};
-pub use crate::cli_view::ViewArgs;
+pub use crate::cli_robustness::{IntersectArgs, OffsetArgs, SlabArg, TriangleTestArg};
 use crate::cli_stats::{self, speed_text, Perf};
+pub use crate::cli_view::ViewArgs;
 use crate::error::{escape_control, Error, Result};
 use crate::image_out::{check_image_path, check_output_dir, stage};
 use crate::model_scene::apply_overrides;
@@ -103,6 +104,12 @@ pub struct RenderArgs {
     /// Accelerator options.
     #[command(flatten)]
     pub accel: AccelArgs,
+    /// Intersection tests and the grid's optional work.
+    #[command(flatten)]
+    pub intersect: IntersectArgs,
+    /// How secondary rays leave surfaces.
+    #[command(flatten)]
+    pub offset: OffsetArgs,
     /// File access and budgets.
     #[command(flatten)]
     pub access: AccessArgs,
@@ -150,6 +157,9 @@ pub struct RaysArgs {
     /// Accelerator options.
     #[command(flatten)]
     pub accel: AccelArgs,
+    /// Intersection tests and the grid's optional work.
+    #[command(flatten)]
+    pub intersect: IntersectArgs,
     /// File access and budgets.
     #[command(flatten)]
     pub access: AccessArgs,
@@ -317,6 +327,7 @@ impl AccelArgs {
             accel: self.accel.kind(),
             grid: self.grid_config(),
             threads: threads.map(|t| t as usize),
+            ..RenderOptions::default()
         }
     }
 }
@@ -457,7 +468,7 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     apply_overrides(&mut loaded.scene.settings, a.width, a.height, a.spp)?;
     a.view.apply(&mut loaded)?;
     a.effects.apply(&mut loaded.scene.settings);
-    let options = a.accel.options(a.threads);
+    let options = a.intersect.options(a.accel.options(a.threads), &a.offset);
     let renderer = Renderer::new(&loaded.scene, &options).map_err(|e| Error::Render {
         path: loaded.source.clone(),
         msg: e.to_string(),
@@ -512,6 +523,7 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     let report = Report {
         loaded: &loaded,
         accel: a.accel,
+        robust: a.intersect.label(Some(&a.offset)),
         threads: a.threads,
         primitives: renderer.primitive_count(),
         stats: &stats,
@@ -551,6 +563,7 @@ fn write_outputs(
     let report = Report {
         loaded,
         accel: a.accel,
+        robust: a.intersect.label(Some(&a.offset)),
         threads: a.threads,
         primitives: renderer.primitive_count(),
         stats,
@@ -598,6 +611,8 @@ fn progress_bar() -> Option<indicatif::ProgressBar> {
 struct Report<'a> {
     loaded: &'a LoadedScene,
     accel: AccelArgs,
+    /// The robustness switches turned off (empty: the defaults).
+    robust: String,
     threads: Option<u32>,
     primitives: usize,
     stats: &'a RenderStats,
@@ -616,6 +631,9 @@ struct StatsJson<'a> {
     height: u32,
     spp: u32,
     grid_m: f64,
+    /// The robustness switches that differ from the defaults, comma
+    /// separated (empty: all robust defaults).
+    robustness: &'a str,
     threads: Option<u32>,
     objects: usize,
     triangles: usize,
@@ -669,6 +687,7 @@ impl Report<'_> {
             height: s.settings.height,
             spp: s.settings.spp,
             grid_m: crate::model::r64(self.accel.grid_config().m),
+            robustness: &self.robust,
             threads: self.threads,
             objects: s.objects.len(),
             triangles: triangle_count(s),
@@ -699,6 +718,9 @@ impl Report<'_> {
             accel_label(&self.accel, st.grid.as_ref()),
             self.primitives
         );
+        if !self.robust.is_empty() {
+            t += &format!("robustness  off: {}\n", self.robust);
+        }
         if let Some(g) = &st.grid {
             t += &grid_line(g);
         }

@@ -8,8 +8,9 @@ use crate::error::{Error, Result};
 use crate::image_out::{check_output_dir, stage, write_atomic};
 use crate::model::load_model_in;
 use crate::rays::{format_hits, parse_rays, trace_rays_on};
-use gridrt_grid::{Exhaustive, Grid, GridStats, QueryCounters};
-use gridrt_tracer::Triangle;
+use crate::RayQuery;
+use gridrt_grid::{Exhaustive, Grid, GridStats, Primitive, QueryCounters};
+use gridrt_tracer::{MtTriangle, Triangle, TriangleTest};
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -59,33 +60,11 @@ pub(crate) fn rays(a: &RaysArgs, out: &mut dyn Write) -> Result<()> {
     let want_counts = a.stats.is_some();
     let (run, threads) = in_pool(a.threads, |parallel| {
         let threads = if parallel { rayon_threads() } else { 1 };
-        let run = match a.accel.accel {
-            Accel::Exhaustive => {
-                let (e, build) = timed(|| Exhaustive::new(tris));
-                let (hits, trace) = timed(|| trace_rays_on(&e, &queries, parallel));
-                let c = want_counts.then(|| cli_stats::count_exhaustive(&e, &queries));
-                RaysRun {
-                    hits,
-                    build,
-                    trace,
-                    counters: c,
-                    grid: None,
-                }
-            }
-            _ => {
-                let mut config = a.accel.grid_config();
-                config.parallel_build &= parallel;
-                let (g, build) = timed(|| Grid::build(tris, &config));
-                let (hits, trace) = timed(|| trace_rays_on(&g, &queries, parallel));
-                let c = want_counts.then(|| cli_stats::count_grid(&g, &queries));
-                let stats = g.stats().clone();
-                RaysRun {
-                    hits,
-                    build,
-                    trace,
-                    counters: c,
-                    grid: Some(stats),
-                }
+        let run = match a.intersect.triangle_test() {
+            TriangleTest::Watertight => run_on(a, tris, &queries, parallel, want_counts),
+            TriangleTest::MollerTrumbore => {
+                let mt = tris.into_iter().map(MtTriangle).collect();
+                run_on(a, mt, &queries, parallel, want_counts)
             }
         };
         (run, threads)
@@ -148,6 +127,47 @@ pub(crate) fn rays(a: &RaysArgs, out: &mut dyn Write) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// Builds the accelerator `a` asks for over `prims` (with the grid switches
+/// of `--mailbox`, `--exact-insertion` and `--slab`) and answers `queries`,
+/// timing the build and the query loop apart.
+fn run_on<P: Primitive + Clone + Send + Sync>(
+    a: &RaysArgs,
+    prims: Vec<P>,
+    queries: &[RayQuery],
+    parallel: bool,
+    want_counts: bool,
+) -> RaysRun {
+    match a.accel.accel {
+        Accel::Exhaustive => {
+            let (e, build) = timed(|| Exhaustive::new(prims));
+            let (hits, trace) = timed(|| trace_rays_on(&e, queries, parallel));
+            let counters = want_counts.then(|| cli_stats::count_exhaustive(&e, queries));
+            RaysRun {
+                hits,
+                build,
+                trace,
+                counters,
+                grid: None,
+            }
+        }
+        _ => {
+            let mut config = a.intersect.grid(a.accel.grid_config());
+            config.parallel_build &= parallel;
+            let (g, build) = timed(|| Grid::build(prims, &config));
+            let (hits, trace) = timed(|| trace_rays_on(&g, queries, parallel));
+            let counters = want_counts.then(|| cli_stats::count_grid(&g, queries));
+            let grid = Some(g.stats().clone());
+            RaysRun {
+                hits,
+                build,
+                trace,
+                counters,
+                grid,
+            }
+        }
+    }
 }
 
 /// What `gridrt rays` measured.

@@ -56,11 +56,13 @@ mod cli_effects;
 #[cfg(feature = "cli")]
 mod cli_outputs;
 #[cfg(feature = "cli")]
-mod cli_view;
-#[cfg(feature = "cli")]
 mod cli_rays;
 #[cfg(feature = "cli")]
+mod cli_robustness;
+#[cfg(feature = "cli")]
 mod cli_stats;
+#[cfg(feature = "cli")]
+mod cli_view;
 mod diff;
 mod error;
 mod image_out;

@@ -30,3 +30,39 @@ fn obj_vertices_and_ray_csv_keep_the_builds_precision() {
     let one: Real = 1.0;
     assert_eq!(t, one - "0.1".parse::<Real>().unwrap());
 }
+
+/// RON numbers reach the scene at the build's precision: with `f64` a
+/// sphere at 0.1 + 1e-12 is not rounded to the float nearest 0.1, and a
+/// camera 10⁶ + 0.1 from the origin keeps its 0.1; a mesh's transform
+/// and the ray CSV likewise.
+#[test]
+fn ron_scene_numbers_keep_the_builds_precision() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.ron");
+    let text = "Scene(
+        camera: Camera(eye: (1000000.1, 0.30000000000000004, 9), look_at: (0, 0, 0)),
+        materials: { \"m\": Matte(color: (0.5, 0.5, 0.5)) },
+        objects: [ Sphere(center: (0.100000000001, -7.1e-300, 123456789.123456789), radius: 0.7, material: \"m\") ],
+    )";
+    let loaded = crate::parse_scene(text, &path).unwrap();
+    let p = |s: &str| s.parse::<Real>().unwrap();
+    let cam = loaded.scene.camera;
+    assert_eq!(
+        cam.eye,
+        Vec3::new(p("1000000.1"), p("0.30000000000000004"), 9.0)
+    );
+    let gridrt_tracer::Geometry::Sphere { center, radius } = loaded.scene.objects[0].geometry
+    else {
+        panic!("not a sphere: {:?}", loaded.scene.objects[0].geometry);
+    };
+    assert_eq!(center.x, p("0.100000000001"));
+    assert_eq!(center.z, p("123456789.123456789"));
+    assert_eq!(radius, p("0.7"));
+    #[cfg(feature = "f64")]
+    {
+        // What an f32 detour would lose.
+        assert_ne!(center.x, f64::from(0.100000000001f32));
+        assert_ne!(cam.eye.x, f64::from(1000000.1f32));
+        assert_eq!(center.y, -7.1e-300);
+    }
+}

@@ -15,6 +15,7 @@ mod models;
 mod normals;
 mod passes;
 mod ply;
+mod robustness_switches;
 mod shared;
 mod stats;
 mod untrusted;

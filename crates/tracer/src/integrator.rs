@@ -2,9 +2,10 @@
 //! integrator, specialised at compile time on the effects of the plan.
 
 use crate::emitters::Emitters;
-use crate::float::{offset_ray_origin, to_f32};
+use crate::float::to_f32;
 use crate::optics::{fresnel_dielectric, reflect, refract};
 use crate::plan::RayCounts;
+use crate::robustness::RayOffset;
 use crate::sampling::SampleStream;
 use crate::scene::{Material, Rgb};
 use crate::shapes::{Plane, Surface, SurfacePoint};
@@ -100,6 +101,8 @@ pub(crate) struct SceneData {
     pub emitters: Emitters,
     /// Longest path of the path tracer, in bounces.
     pub path_depth: u32,
+    /// How secondary rays leave surfaces (`RenderOptions::ray_offset`).
+    pub ray_offset: RayOffset,
 }
 
 /// What a ray found: a grid primitive or a plane.
@@ -446,7 +449,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
                 );
                 if REFLECT && depth < tr.data.max_depth && kr != 0.0 {
                     let wr = on_side(reflect(wo, secondary_ns(ng, ns, wo)), ng, ns, true);
-                    let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wr);
+                    let origin = tr.data.ray_offset.origin(sh.sp.p, sh.sp.p_err, ng, wr);
                     ts.counts.reflection += 1;
                     l += cr * kr * Self::li(tr, &Ray::new(origin, wr), depth + 1, stream, ts).color;
                 }
@@ -587,11 +590,11 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
                     DirectLight::Point {
                         position, shadows, ..
                     } => {
-                        let o = offset_ray_origin(sp.p, sp.p_err, ng, wi);
+                        let o = tr.data.ray_offset.origin(sp.p, sp.p_err, ng, wi);
                         (shadows, (Ray::new(o, position - o), point_shadow_t_max()))
                     }
                     DirectLight::Directional { shadows, .. } => {
-                        let o = offset_ray_origin(sp.p, sp.p_err, ng, wi);
+                        let o = tr.data.ray_offset.origin(sp.p, sp.p_err, ng, wi);
                         (shadows, (Ray::new(o, wi), Real::INFINITY))
                     }
                 };
@@ -660,7 +663,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
         let mut l = Rgb::ZERO;
         if REFLECT && fr > 0.0 {
             let wr = on_side(reflect(wo, ns), ng, ns, true);
-            let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wr);
+            let origin = tr.data.ray_offset.origin(sh.sp.p, sh.sp.p_err, ng, wr);
             ts.counts.reflection += 1;
             let li = Self::li(tr, &Ray::new(origin, wr), depth + 1, stream, ts);
             // A reflection from the inside stays inside.
@@ -669,7 +672,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
         if fr < 1.0 {
             if let Some(wt) = refract(wo, ns, eta) {
                 let wt = on_side(wt, ng, ns, false);
-                let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng, wt);
+                let origin = tr.data.ray_offset.origin(sh.sp.p, sh.sp.p_err, ng, wt);
                 ts.counts.refraction += 1;
                 let li = Self::li(tr, &Ray::new(origin, wt), depth + 1, stream, ts);
                 let scale = (1.0 - fr) / to_f32(eta * eta);

@@ -75,12 +75,14 @@ mod float;
 mod framebuffer;
 pub mod hard_meshes;
 mod integrator;
+pub mod offset_scenes;
 pub mod optics;
 mod path;
 mod plan;
 mod pool;
 mod prepare;
 mod render;
+mod robustness;
 pub mod sampling;
 pub mod scene;
 #[cfg(feature = "serde")]
@@ -96,12 +98,13 @@ pub use gridrt_grid::Accelerator;
 pub use plan::{EffectPlan, IntegratorKind, RayCounts};
 pub use prepare::{SphereSet, MAX_PIXELS};
 pub use render::{render, AccelKind, RenderOptions, RenderStats, Renderer};
+pub use robustness::{RayOffset, TriangleTest};
 pub use sampling::{Filter, SamplerKind};
 pub use scene::{
     Camera, Geometry, IntegratorChoice, Light, Material, MaterialId, Mesh, Object, Projection, Rgb,
     Scene, Settings,
 };
-pub use shapes::{Cuboid, Plane, Shape, Sphere, Triangle};
+pub use shapes::{Cuboid, MtTriangle, Plane, Shape, Sphere, Triangle, MT_EPSILON};
 
 /// The README's Rust examples, compiled and run as doc tests.
 #[cfg(doctest)]

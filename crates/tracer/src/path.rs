@@ -12,7 +12,7 @@
 //! lights are not used (the background is the environment's radiance).
 
 use crate::emitters::Emitters;
-use crate::float::{offset_ray_origin, to_f32};
+use crate::float::to_f32;
 use crate::integrator::{face_forward, Found, Integrator, Li, Shading, ThreadState, Tracer};
 use crate::integrator::{point_shadow_t_max, DirectLight};
 use crate::optics::{fresnel_dielectric, reflect, refract};
@@ -158,7 +158,7 @@ impl PathTracer {
                 if ng.dot(ls.wi) > 0.0 {
                     let (f, pdf_bsdf) = lobes.eval(wo, ls.wi, ns);
                     if f != Rgb::ZERO {
-                        let o = offset_ray_origin(p, sh.sp.p_err, ng, ls.wi);
+                        let o = tr.data.ray_offset.origin(p, sh.sp.p_err, ng, ls.wi);
                         ts.counts.light_sample += 1;
                         let shadow = Ray::new(o, ls.point - o);
                         if !tr.occluded(&shadow, LIGHT_T_MAX, &mut ts.scratch) {
@@ -188,7 +188,7 @@ impl PathTracer {
                     } else {
                         radiance
                     };
-                    let o = offset_ray_origin(p, sh.sp.p_err, ng, wi);
+                    let o = tr.data.ray_offset.origin(p, sh.sp.p_err, ng, wi);
                     (
                         wi,
                         r,
@@ -200,7 +200,7 @@ impl PathTracer {
                     radiance,
                     shadows,
                 } => {
-                    let o = offset_ray_origin(p, sh.sp.p_err, ng, dir);
+                    let o = tr.data.ray_offset.origin(p, sh.sp.p_err, ng, dir);
                     (
                         dir,
                         radiance,
@@ -480,7 +480,7 @@ impl Integrator for PathTracer {
             if beta == Rgb::ZERO || !beta.is_finite() {
                 break;
             }
-            let origin = offset_ray_origin(sh.sp.p, sh.sp.p_err, ng_side, wi);
+            let origin = tr.data.ray_offset.origin(sh.sp.p, sh.sp.p_err, ng_side, wi);
             ray = Ray::new(origin, wi);
         }
         first.color = l;

@@ -484,7 +484,7 @@ fn add_emitter(data: &mut SceneData, prim: usize, shape: &Shape, material: u32) 
         return;
     }
     let shape = match *shape {
-        Shape::Triangle(t) => {
+        Shape::Triangle(t) | Shape::MtTriangle(crate::shapes::MtTriangle(t)) => {
             let [p0, p1, p2] = t.vertices();
             let (e1, e2) = (p1 - p0, p2 - p0);
             let Some(n) = e1.cross(e2).try_normalize() else {

@@ -9,6 +9,7 @@ use crate::path::PathTracer;
 use crate::plan::{EffectPlan, IntegratorKind, RayCounts};
 use crate::pool::Pool;
 use crate::prepare::{prepare, Prepared, Prims, SphereSet};
+use crate::robustness::{with_triangle_test, RayOffset, TriangleTest};
 use crate::sampling::{FilterTable, SampleStream, SamplerKind};
 use crate::scene::{Rgb, Scene};
 use crate::shapes::{Shape, Sphere, Surface};
@@ -46,6 +47,10 @@ pub struct RenderOptions {
     /// Worker threads for building and rendering; `None` = all cores.
     /// The image does not depend on it.
     pub threads: Option<usize>,
+    /// The ray–triangle test (default: watertight).
+    pub triangle_test: TriangleTest,
+    /// How secondary rays leave surfaces (default: by the error bound).
+    pub ray_offset: RayOffset,
 }
 
 impl Default for RenderOptions {
@@ -54,6 +59,8 @@ impl Default for RenderOptions {
             accel: AccelKind::Grid,
             grid: GridConfig::default(),
             threads: None,
+            triangle_test: TriangleTest::Watertight,
+            ray_offset: RayOffset::ErrorBound,
         }
     }
 }
@@ -198,7 +205,7 @@ impl Renderer {
     ) -> Result<Renderer, SceneError> {
         let start = Instant::now();
         let Prepared {
-            data,
+            mut data,
             prims,
             camera,
             plan,
@@ -206,6 +213,8 @@ impl Renderer {
             height,
             spp,
         } = prepare(scene, set)?;
+        data.ray_offset = options.ray_offset;
+        let prims = with_triangle_test(prims, options.triangle_test);
         let pool = Pool::new(options.threads);
         let parallel = pool.is_parallel();
         let prim_count = prims.len() + data.planes.len();

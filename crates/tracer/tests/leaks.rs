@@ -4,7 +4,7 @@
 
 use gridrt_grid::{Accelerator, Exhaustive, Grid, GridConfig, Hit, PrimHit, Ray, Real, Vec3};
 use gridrt_tracer::hard_meshes::{self, DirLength};
-use gridrt_tracer::Triangle;
+use gridrt_tracer::{MtTriangle, Triangle};
 
 const SCALES: [f64; 3] = [1e-6, 1.0, 1e6];
 const OFFSETS: [f64; 3] = [0.0, 1e3, 1e5];
@@ -112,4 +112,195 @@ proptest::proptest! {
         let scaled = a.map(|h| PrimHit { t: h.t * (sk / sj), ..h });
         proptest::prop_assert_eq!(b, scaled);
     }
+}
+
+/// The switch that turns watertightness off: Möller–Trumbore lets probe
+/// rays through the closed meshes (at scale 1 through shared edges and
+/// vertices, at scale 10⁻⁶ through its fixed epsilon too), where the
+/// watertight test lets none through.
+#[test]
+fn moller_trumbore_leaks_where_watertight_does_not() {
+    let mut report = Vec::new();
+    let (mut wt_leaks, mut mt_leaks_unit_scale, mut mt_leaks_small) = (0, 0, 0);
+    for mesh in hard_meshes::standard_set() {
+        for scale in [1.0, 1e-6] {
+            let tris = mesh.triangles(scale, 0.0);
+            let mt: Vec<MtTriangle> = tris.iter().copied().map(MtTriangle).collect();
+            let (wt, mt) = (Exhaustive::new(tris), Exhaustive::new(mt));
+            let (mut sw, mut sm) = (wt.scratch(), mt.scratch());
+            let rays = mesh.probe_rays(scale, 0.0, DirLength::Unit);
+            let w = rays
+                .iter()
+                .filter(|r| closest(&wt, r, &mut sw).is_none())
+                .count();
+            let m = rays
+                .iter()
+                .filter(|r| closest(&mt, r, &mut sm).is_none())
+                .count();
+            report.push(format!(
+                "{} scale {scale:e}: watertight {w}, MT {m} of {}",
+                mesh.name,
+                rays.len()
+            ));
+            wt_leaks += w;
+            if scale == 1.0 {
+                mt_leaks_unit_scale += m;
+            } else {
+                mt_leaks_small += m;
+            }
+        }
+    }
+    let report = report.join("\n");
+    assert_eq!(wt_leaks, 0, "{report}");
+    assert!(mt_leaks_small > 100, "{report}");
+    #[cfg(not(feature = "f64"))]
+    assert!(mt_leaks_unit_scale > 0, "{report}");
+    #[cfg(feature = "f64")]
+    let _ = mt_leaks_unit_scale;
+}
+
+/// Two triangles sharing the diagonal of a square, rays aimed exactly at
+/// points of the diagonal: Möller–Trumbore misses both triangles for some
+/// of them (the two `u + v ≤ 1` tests round differently), the watertight
+/// test never does.
+#[test]
+fn moller_trumbore_falls_through_a_shared_edge() {
+    let a = Triangle::new(
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(1.0, 0.1, 0.0),
+        Vec3::new(0.3, 1.0, 0.0),
+    );
+    let b = Triangle::new(
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(0.3, 1.0, 0.0),
+        Vec3::new(-0.7, 0.9, 0.0),
+    );
+    let (mut wt_miss, mut mt_miss) = (0, 0);
+    let n = 20_000;
+    for i in 1..n {
+        let s = i as Real / n as Real;
+        let target = Vec3::new(0.3, 1.0, 0.0) * s;
+        let origin = Vec3::new(0.37, -0.21, 1.3);
+        let r = Ray::new(origin, target - origin);
+        let hit = |p: &dyn Fn(&Ray) -> bool| p(&r);
+        wt_miss += usize::from(!hit(&|r| {
+            a.intersect(r, 0.0, Real::INFINITY).is_some()
+                || b.intersect(r, 0.0, Real::INFINITY).is_some()
+        }));
+        mt_miss += usize::from(!hit(&|r| {
+            MtTriangle(a).intersect(r, 0.0, Real::INFINITY).is_some()
+                || MtTriangle(b).intersect(r, 0.0, Real::INFINITY).is_some()
+        }));
+    }
+    assert_eq!(wt_miss, 0);
+    assert!(mt_miss > 0, "Möller–Trumbore missed none of {n} rays");
+}
+
+/// The grid's optional work and its textbook slab test change no answer:
+/// on the closed meshes at every placement, each grid variant returns
+/// exactly the exhaustive baseline's hits (the entry box is padded beyond
+/// the primitives, so the textbook test's `0·∞` cases fall outside them).
+#[test]
+#[allow(clippy::let_unit_value)] // the exhaustive accelerator's scratch is `()`
+fn grid_switches_change_no_answer() {
+    use gridrt_grid::{CellStorage, SlabTest};
+    let variants = [
+        GridConfig {
+            mailbox: true,
+            ..GridConfig::default()
+        },
+        GridConfig {
+            exact_insertion: true,
+            ..GridConfig::default()
+        },
+        GridConfig {
+            slab: SlabTest::Textbook,
+            ..GridConfig::default()
+        },
+        GridConfig {
+            storage: CellStorage::Hashed,
+            m: 2.0,
+            ..GridConfig::default()
+        },
+        GridConfig {
+            nest_min_refs: 4,
+            m: 0.3,
+            ..GridConfig::default()
+        },
+    ];
+    let mut report = Vec::new();
+    for mesh in hard_meshes::standard_set() {
+        for (scale, offset) in [(1.0, 0.0), (1e-6, 0.0), (1e6, 1e5)] {
+            let tris = mesh.triangles(scale, offset);
+            let ex = Exhaustive::new(tris.clone());
+            let mut se = ex.scratch();
+            let rays = mesh.probe_rays(scale, offset, DirLength::ToTarget);
+            let want: Vec<_> = rays.iter().map(|r| closest(&ex, r, &mut se)).collect();
+            for (k, config) in variants.iter().enumerate() {
+                let grid = Grid::build(tris.clone(), config);
+                let mut sg = grid.scratch();
+                let bad = rays
+                    .iter()
+                    .zip(&want)
+                    .filter(|(r, w)| closest(&grid, r, &mut sg) != **w)
+                    .count();
+                if bad > 0 {
+                    report.push(format!(
+                        "{} scale {scale:e}: variant {k}: {bad} mismatches",
+                        mesh.name
+                    ));
+                }
+            }
+        }
+    }
+    assert!(report.is_empty(), "{}", report.join("\n"));
+}
+
+/// A closed mesh and its probe rays scaled by 2⁻²⁰ or 2²⁰ get the same
+/// answers from the grid: the same triangle, the same barycentrics, and `t`
+/// scaled by exactly the inverse for unit directions (unchanged for
+/// `target − origin` ones, which scale with the mesh).
+#[test]
+fn grid_answers_are_unchanged_under_power_of_two_scaling() {
+    let mut report = Vec::new();
+    for mesh in hard_meshes::standard_set() {
+        let answers = |scale: f64, len: DirLength| {
+            let grid = Grid::build(mesh.triangles(scale, 0.0), &GridConfig::default());
+            let mut s = grid.scratch();
+            mesh.probe_rays(scale, 0.0, len)
+                .iter()
+                .map(|r| closest(&grid, r, &mut s))
+                .collect::<Vec<_>>()
+        };
+        for len in [DirLength::Unit, DirLength::ToTarget] {
+            let unit = answers(1.0, len);
+            for k in [-20, 20] {
+                let s = (2.0f64).powi(k);
+                let t_scale = if len == DirLength::Unit {
+                    s as Real
+                } else {
+                    1.0
+                };
+                let want: Vec<_> = unit
+                    .iter()
+                    .map(|h| {
+                        h.map(|h| Hit {
+                            t: h.t * t_scale,
+                            ..h
+                        })
+                    })
+                    .collect();
+                let got = answers(s, len);
+                let bad = got.iter().zip(&want).filter(|(g, w)| g != w).count();
+                if bad > 0 || got.len() != want.len() {
+                    report.push(format!(
+                        "{} 2^{k} {len:?}: {bad} of {} differ",
+                        mesh.name,
+                        want.len()
+                    ));
+                }
+            }
+        }
+    }
+    assert!(report.is_empty(), "{}", report.join("\n"));
 }

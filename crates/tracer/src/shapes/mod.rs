@@ -13,11 +13,13 @@ mod overlap;
 mod plane;
 mod sphere;
 mod triangle;
+mod triangle_mt;
 
 pub use cuboid::Cuboid;
 pub use plane::Plane;
 pub use sphere::Sphere;
 pub use triangle::Triangle;
+pub use triangle_mt::{MtTriangle, MT_EPSILON};
 
 use gridrt_bbox::{Aabb, Ray, Real, Vec3};
 use gridrt_grid::{PrimHit, Primitive};
@@ -52,6 +54,9 @@ pub enum Shape {
     Cuboid(Cuboid),
     /// A triangle (of a mesh).
     Triangle(Triangle),
+    /// A triangle tested with Möller–Trumbore instead of the watertight
+    /// test (`TriangleTest::MollerTrumbore`).
+    MtTriangle(MtTriangle),
 }
 
 impl Primitive for Shape {
@@ -61,6 +66,7 @@ impl Primitive for Shape {
             Shape::Sphere(s) => s.bounds(),
             Shape::Cuboid(c) => c.bounds(),
             Shape::Triangle(t) => t.bounds(),
+            Shape::MtTriangle(t) => t.bounds(),
         }
     }
 
@@ -70,6 +76,7 @@ impl Primitive for Shape {
             Shape::Sphere(s) => s.closest_hit(ray, t_min, t_max),
             Shape::Cuboid(c) => c.closest_hit(ray, t_min, t_max),
             Shape::Triangle(t) => t.closest_hit(ray, t_min, t_max),
+            Shape::MtTriangle(t) => t.closest_hit(ray, t_min, t_max),
         }
     }
 
@@ -79,6 +86,7 @@ impl Primitive for Shape {
             Shape::Sphere(s) => s.any_hit(ray, t_min, t_max),
             Shape::Cuboid(c) => c.any_hit(ray, t_min, t_max),
             Shape::Triangle(t) => t.any_hit(ray, t_min, t_max),
+            Shape::MtTriangle(t) => t.any_hit(ray, t_min, t_max),
         }
     }
 
@@ -88,6 +96,7 @@ impl Primitive for Shape {
             Shape::Sphere(s) => s.overlaps_box(cell),
             Shape::Cuboid(c) => c.overlaps_box(cell),
             Shape::Triangle(t) => t.overlaps_box(cell),
+            Shape::MtTriangle(t) => t.overlaps_box(cell),
         }
     }
 }
@@ -99,6 +108,7 @@ impl Surface for Shape {
             Shape::Sphere(s) => s.surface(ray, t, u, v),
             Shape::Cuboid(c) => c.surface(ray, t, u, v),
             Shape::Triangle(tr) => tr.surface(ray, t, u, v),
+            Shape::MtTriangle(tr) => tr.surface(ray, t, u, v),
         }
     }
 }
