@@ -93,7 +93,7 @@ impl<P: Primitive> Exhaustive<P> {
                 limit,
                 &mut |r, h| {
                     // Strictly nearer only: on a tie in t the earlier (lower) index stays.
-                    if best.map_or(true, |b| h.t < b.t) {
+                    if best.is_none_or(|b| h.t < b.t) {
                         best = Some(Hit::new(h, base + r));
                         t_far = h.t;
                     }

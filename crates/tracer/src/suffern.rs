@@ -340,6 +340,8 @@ pub fn scene_with_seed(n: usize, seed: u64) -> Scene {
             spp: 1,
             max_depth: 0,
             background: Rgb::ZERO,
+            // As a scene file's `max_depth: 0` sets both depths.
+            path_max_depth: 0,
             ..Settings::default()
         },
         materials,

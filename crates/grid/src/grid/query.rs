@@ -70,7 +70,7 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
     /// limit for the tests that follow.
     #[inline(always)]
     fn keep(&mut self, hit: Hit) -> Real {
-        if self.best.as_ref().map_or(true, |b| hit.is_better_than(b)) {
+        if self.best.as_ref().is_none_or(|b| hit.is_better_than(b)) {
             self.t_lim = hit.t;
             self.best = Some(hit);
         }

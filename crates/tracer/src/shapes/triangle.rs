@@ -218,7 +218,16 @@ impl Surface for Triangle {
         let b = (p2 - p0) * v;
         let s = p0 + a;
         let p = s + b;
-        let p_err = (a.abs() + b.abs()) * gamma(3) + (p0.abs() + s.abs() + p.abs()) * gamma(1);
+        // A secondary ray leaving the point is tested against this triangle
+        // again, and that test rounds the vertices' depths along the ray's
+        // major axis, which need not be the normal's: its error is a few
+        // ulps of the triangle's extent in every direction. The origin must
+        // clear that too, or points whose own rounding is exact (a triangle
+        // in a coordinate plane) hit their own triangle at random (acne).
+        let extent = (p1 - p0).abs().max((p2 - p0).abs()).max_element();
+        let p_err = (a.abs() + b.abs()) * gamma(3)
+            + (p0.abs() + s.abs() + p.abs()) * gamma(1)
+            + Vec3::splat(extent * gamma(16));
         SurfacePoint {
             p,
             p_err,
