@@ -52,6 +52,7 @@
 mod aov_out;
 #[cfg(feature = "cli")]
 pub mod cli;
+#[cfg(feature = "cli")]
 mod cli_effects;
 #[cfg(feature = "cli")]
 mod cli_outputs;
