@@ -53,6 +53,8 @@ mod aov_out;
 #[cfg(feature = "cli")]
 pub mod cli;
 #[cfg(feature = "cli")]
+mod cli_access;
+#[cfg(feature = "cli")]
 mod cli_effects;
 #[cfg(feature = "cli")]
 mod cli_outputs;
