@@ -143,6 +143,79 @@ pub fn table_scene(scale: Real, offset: Real) -> Scene {
     s
 }
 
+/// [`shadow_scene`] with mirrors: a mirror of two triangles leaning over
+/// the back of the floor and a mirror sphere beside the cube, so reflected
+/// rays leave triangles and a sphere towards lit and shadowed floor. A
+/// reflected ray that hits its own mirror again darkens the pixel (acne).
+#[must_use]
+pub fn mirror_scene(scale: Real, offset: Real) -> Scene {
+    let at = |x: Real, y: Real, z: Real| Vec3::new(x, y, z) * scale + Vec3::splat(offset);
+    let mut s = shadow_scene(scale, offset);
+    s.settings.background = Rgb::new(0.3, 0.5, 0.8);
+    s.materials.push(Material::Reflective {
+        color: Rgb::splat(0.2),
+        ka: 0.0,
+        kd: 0.3,
+        ks: 0.0,
+        exp: 1.0,
+        kr: 0.7,
+        reflect: Rgb::ONE,
+    });
+    let mirror = (s.materials.len() - 1) as u32;
+    let quad = Mesh {
+        name: "mirror".into(),
+        positions: vec![
+            at(-3.0, 0.0, -1.5),
+            at(3.0, 0.0, -1.5),
+            at(3.0, 2.5, -2.8),
+            at(-3.0, 2.5, -2.8),
+        ],
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+        ..Mesh::default()
+    };
+    s.objects.push(Object {
+        geometry: Geometry::Mesh(Box::new(quad)),
+        material: mirror,
+    });
+    s.objects.push(Object {
+        geometry: Geometry::Sphere {
+            center: at(1.2, 0.6, 1.3),
+            radius: 0.6 * scale,
+        },
+        material: mirror,
+    });
+    s
+}
+
+/// [`shadow_scene`] with glass: the cube and a sphere beside it are clear
+/// glass (index 1.5), so refracted rays leave triangles and a sphere from
+/// inside and outside. A ray that re-enters the surface it left shows as
+/// dark speckle (acne) inside the glass.
+#[must_use]
+pub fn glass_scene(scale: Real, offset: Real) -> Scene {
+    let at = |x: Real, y: Real, z: Real| Vec3::new(x, y, z) * scale + Vec3::splat(offset);
+    let mut s = shadow_scene(scale, offset);
+    s.settings.background = Rgb::new(0.3, 0.5, 0.8);
+    s.materials.push(Material::Dielectric {
+        ior: 1.5,
+        tint: Rgb::ONE,
+    });
+    let glass = (s.materials.len() - 1) as u32;
+    for o in &mut s.objects {
+        if matches!(o.geometry, Geometry::Mesh(_)) {
+            o.material = glass;
+        }
+    }
+    s.objects.push(Object {
+        geometry: Geometry::Sphere {
+            center: at(1.2, 0.6, 1.3),
+            radius: 0.6 * scale,
+        },
+        material: glass,
+    });
+    s
+}
+
 /// Pixels that are lit in `reference` and darker in `image` (acne), and
 /// the reverse (leaks), counted only where the reference's 5×5
 /// neighbourhood is flat, so that silhouettes and shadow edges, which

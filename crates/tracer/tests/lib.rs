@@ -16,6 +16,7 @@ mod path;
 mod plan;
 mod precision;
 mod progress;
+mod random_closed;
 mod rows;
 mod shading_normals;
 mod suffern;

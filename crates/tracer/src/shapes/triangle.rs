@@ -68,19 +68,36 @@ impl Triangle {
     }
 
     /// `(p1 − p0) × (p2 − p0)`: twice the area, along the front normal.
+    ///
+    /// Evaluated in `f64` (and in the `f32` build rounded once): the
+    /// differences of `f32` coordinates and their products are exact or
+    /// nearly so there, so a sliver a few ulps wide and millions of ulps
+    /// long keeps its true normal instead of cancelling to zero.
     #[inline]
     #[must_use]
+    #[allow(clippy::cast_possible_truncation)] // the rounding to `f32` is the point
     pub fn area_normal(&self) -> Vec3 {
-        let [p0, p1, p2] = self.vertices();
+        let n = self.area_normal_f64();
+        Vec3::new(n.x as Real, n.y as Real, n.z as Real)
+    }
+
+    /// [`Self::area_normal`] before its rounding to [`Real`].
+    #[inline]
+    #[allow(clippy::useless_conversion)] // a conversion in the `f32` build
+    fn area_normal_f64(&self) -> glam::DVec3 {
+        let [p0, p1, p2] = self
+            .vertices()
+            .map(|p| glam::DVec3::new(f64::from(p.x), f64::from(p.y), f64::from(p.z)));
         (p1 - p0).cross(p2 - p0)
     }
 
     /// Whether the triangle has zero area (its vertices are collinear), in
-    /// which case it is never hit.
+    /// which case it is never hit. Decided on the `f64` cross product, so
+    /// a sliver is not taken for degenerate.
     #[inline]
     #[must_use]
     pub fn is_degenerate(&self) -> bool {
-        self.area_normal() == Vec3::ZERO
+        self.area_normal_f64() == glam::DVec3::ZERO
     }
 
     /// Coordinate `k` of the three vertices in lanes 0..3 (lane 3 is
@@ -106,36 +123,17 @@ impl Triangle {
         let y = (self.lanes(ky) - Lanes::splat(o[ky])) - Lanes::splat(sy) * z;
         // Scaled barycentrics, the 2D edge functions: lane 0 is
         // cx·by − cy·bx, lane 1 ax·cy − ay·cx, lane 2 bx·ay − by·ax.
-        #[allow(unused_mut)]
-        let mut e = x.zxyw() * y.yzxw() - y.zxyw() * x.yzxw();
+        let e = x.zxyw() * y.yzxw() - y.zxyw() * x.yzxw();
         // Lanes 0..3 of a comparison mask (lane 3 holds no vertex).
         let any3 = |mask: u32| mask & 7 != 0;
-        #[cfg(not(feature = "f64"))]
-        if any3(e.cmpeq(Lanes::ZERO).bitmask()) {
-            // On an edge in f32: redo the differences of exact f64 products so
-            // that the sign, which decides the hit, is exact.
-            let [ax, bx, cx, _] = x.to_array().map(f64::from);
-            let [ay, by, cy, _] = y.to_array().map(f64::from);
-            e = Lanes::new(
-                (cx * by - cy * bx) as f32,
-                (ax * cy - ay * cx) as f32,
-                (bx * ay - by * ax) as f32,
-                0.0,
-            );
-        }
         // Inside means all three of one sign (zeros allowed: edges count).
+        // Rounding is monotonic, so a product difference rounds to its
+        // true sign or to zero, never to the other sign: an edge function
+        // of each sign rejects the triangle for certain.
         if any3(e.cmplt(Lanes::ZERO).bitmask()) && any3(e.cmpgt(Lanes::ZERO).bitmask()) {
             return None;
         }
-        let [e0, e1, e2, _] = e.to_array();
-        let det = e0 + e1 + e2;
-        if det == 0.0 || det.is_nan() {
-            // Seen edge-on, or a zero direction.
-            return None;
-        }
-        let [az, bz, cz, _] = (z * sz).to_array();
-        let inv_det = 1.0 / det;
-        let t = (e0 * az + e1 * bz + e2 * cz) * inv_det;
+        let (t, u, v) = hit_from_edges(x, y, z, sz, e)?;
         // Only `t > 0` and the caller's range: no rejection by an error bound
         // on `t`. Such a bound (pbrt-v4 §6.8.4) grows with the triangle's
         // extent over its projected area and, written with world-unit x, y
@@ -154,12 +152,91 @@ impl Triangle {
         if self.is_degenerate() {
             return None;
         }
-        Some(PrimHit {
-            t,
-            u: e1 * inv_det,
-            v: e2 * inv_det,
-        })
+        Some(PrimHit { t, u, v })
     }
+}
+
+/// `(t, u, v)` of a ray that passed the sign test, from the sheared
+/// vertices (`x`, `y`, and `z` before its scaling by `sz`) and their `f32`
+/// edge functions `e`, or `None` when the exact signs reject it after all
+/// or the triangle is seen edge-on.
+///
+/// In `f32` the edge functions are evaluated again in `f64`, where the
+/// products of `f32` values are exact and each difference is rounded once:
+/// their signs are exact (an `f32` zero may turn out either way), and so
+/// are the barycentrics to an ulp. In `f32` a sliver's edge functions
+/// cancel to a fraction of their rounding, so barycentrics taken from them
+/// could put the hit far outside the triangle (its `t` off by percent),
+/// and then the grid, which looks for a hit only in the cells of the
+/// triangle's box, could not agree with the exhaustive baseline.
+#[cfg(not(feature = "f64"))]
+#[inline]
+#[allow(clippy::cast_possible_truncation)] // the rounding to `f32` is the point
+fn hit_from_edges(x: Lanes, y: Lanes, z: Lanes, sz: Real, _e: Lanes) -> Option<(Real, Real, Real)> {
+    let [ax, bx, cx, _] = x.to_array().map(f64::from);
+    let [ay, by, cy, _] = y.to_array().map(f64::from);
+    let e = [cx * by - cy * bx, ax * cy - ay * cx, bx * ay - by * ax];
+    if e.iter().any(|&e| e < 0.0) && e.iter().any(|&e| e > 0.0) {
+        return None;
+    }
+    let det = e[0] + e[1] + e[2];
+    if det == 0.0 || det.is_nan() {
+        // Seen edge-on, or a zero direction.
+        return None;
+    }
+    let sz = f64::from(sz);
+    let [az, bz, cz, _] = z.to_array().map(|z| f64::from(z) * sz);
+    let inv_det = 1.0 / det;
+    let t = (e[0] * az + e[1] * bz + e[2] * cz) * inv_det;
+    Some((
+        t as Real,
+        (e[1] * inv_det) as Real,
+        (e[2] * inv_det) as Real,
+    ))
+}
+
+/// `(t, u, v)` of a ray that passed the sign test (see the `f32` version).
+/// In `f64` an edge function that rounded to zero is decided again
+/// exactly: its two products are equal as rounded, so its sign is that of
+/// the difference of their rounding errors, which fused multiply–adds give
+/// exactly. Without it a triangle seen nearly along a line through the
+/// origin (all three edge functions near zero, of mixed true signs)
+/// passes the test far outside itself.
+#[cfg(feature = "f64")]
+#[inline]
+fn hit_from_edges(x: Lanes, y: Lanes, z: Lanes, sz: Real, e: Lanes) -> Option<(Real, Real, Real)> {
+    let [mut e0, mut e1, mut e2, _] = e.to_array();
+    if e0 == 0.0 || e1 == 0.0 || e2 == 0.0 {
+        let [ax, bx, cx, _] = x.to_array();
+        let [ay, by, cy, _] = y.to_array();
+        // `p·q − r·s` when `p·q` and `r·s` round to the same value.
+        let tie = |p: f64, q: f64, r: f64, s: f64| p.mul_add(q, -(p * q)) - r.mul_add(s, -(r * s));
+        if e0 == 0.0 {
+            e0 = tie(cx, by, cy, bx);
+        }
+        if e1 == 0.0 {
+            e1 = tie(ax, cy, ay, cx);
+        }
+        if e2 == 0.0 {
+            e2 = tie(bx, ay, by, ax);
+        }
+        let e = [e0, e1, e2];
+        if e.iter().any(|&e| e < 0.0) && e.iter().any(|&e| e > 0.0) {
+            return None;
+        }
+    }
+    let det = e0 + e1 + e2;
+    if det == 0.0 || det.is_nan() {
+        // Seen edge-on, or a zero direction.
+        return None;
+    }
+    let [az, bz, cz, _] = (z * Lanes::splat(sz)).to_array();
+    let inv_det = 1.0 / det;
+    Some((
+        (e0 * az + e1 * bz + e2 * cz) * inv_det,
+        e1 * inv_det,
+        e2 * inv_det,
+    ))
 }
 
 impl Primitive for Triangle {

@@ -31,6 +31,10 @@
 //! assert_eq!(leaks, 0);
 //! ```
 
+mod random;
+
+pub use random::random_star;
+
 use crate::shapes::Triangle;
 use gridrt_bbox::{Ray, Real, Vec3};
 use std::f64::consts::{PI, TAU};
@@ -361,6 +365,18 @@ mod tests {
             assert!(volume(&m) > 0.0, "{}: volume {}", m.name, volume(&m));
         }
         assert!((volume(&fan_cube(2e-8)) - 8.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn random_stars_are_closed_and_outward() {
+        for seed in 0..40 {
+            let m = random_star(seed, seed as u32 * 5, 0.3);
+            assert_eq!(m.faces.len(), 8 + 2 * seed as usize * 5);
+            assert_closed(&m);
+            assert!(volume(&m) > 0.0, "{}: volume {}", m.name, volume(&m));
+        }
+        assert_eq!(random_star(7, 50, 0.5), random_star(7, 50, 0.5));
+        assert_ne!(random_star(7, 50, 0.5), random_star(8, 50, 0.5));
     }
 
     #[test]
