@@ -163,7 +163,9 @@ pub fn triangle_test(o: &Opts) -> Res<String> {
         md,
         "Rays from a point inside each closed mesh of `gridrt_tracer::hard_meshes` (a UV \
          sphere with pole fans, a torus, a bicone of 10⁻⁵-radian slivers, a cube whose faces \
-         are fans mixing areas 10⁻⁸ and 1) through every vertex, edge midpoint and points \
+         are fans mixing areas 10⁻⁸ and 1) and of four random closed meshes \
+         (`hard_meshes::random_star`, 150 splits: slivers and fans over a random \
+         triangulation, randomly rotated) through every vertex, edge midpoint and points \
          near both ends of every edge, with unit, 2⁻²⁰ and `target − origin` directions, at \
          offsets {} from the origin where the precision resolves the mesh. Every ray must \
          hit: a miss is a leak. The reference is the geometry itself. Time: tracing all \
@@ -188,7 +190,10 @@ pub fn triangle_test(o: &Opts) -> Res<String> {
             leaks: [0; 2],
             times: [Duration::ZERO; 2],
         };
-        for mesh in hard_meshes::standard_set() {
+        let meshes = hard_meshes::standard_set()
+            .into_iter()
+            .chain((1..=4).map(|seed| hard_meshes::random_star(seed, 150, 0.3)));
+        for mesh in meshes {
             for &offset in &o.offsets {
                 if scale < offset * f64::from(Real::EPSILON) * 4096.0 {
                     continue;
