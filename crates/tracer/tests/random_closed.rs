@@ -62,6 +62,48 @@ fn probe(mesh: &ClosedMesh, scale: f64, offset: f64) -> String {
     report
 }
 
+/// Grazing rays of a mesh star-shaped about the origin: from just inside
+/// each face (its centroid pulled 10⁻³ of the way towards the centre,
+/// inside since every segment from the centre crosses the surface once) to
+/// the face's own vertices and edge midpoints, so each ray runs nearly
+/// along the face and leaves near its edges. Faces seen nearly edge-on
+/// from the centre are left out: rounding their vertices may fold them,
+/// and the pulled point may then lie outside.
+fn grazing_rays(mesh: &ClosedMesh, scale: f64, offset: f64) -> Vec<Ray> {
+    let place = |p: [f64; 3]| {
+        #[allow(clippy::cast_possible_truncation)] // the rounding is the point
+        let r = |k: usize| (p[k] * scale + offset) as Real;
+        gridrt_grid::Vec3::new(r(0), r(1), r(2))
+    };
+    let mut rays = Vec::new();
+    for f in &mesh.faces {
+        let v = f.map(|i| mesh.vertices[i as usize]);
+        let c: [f64; 3] = std::array::from_fn(|k| (v[0][k] + v[1][k] + v[2][k]) / 3.0);
+        let (e1, e2): ([f64; 3], [f64; 3]) = (
+            std::array::from_fn(|k| v[1][k] - v[0][k]),
+            std::array::from_fn(|k| v[2][k] - v[0][k]),
+        );
+        let n = [
+            e1[1] * e2[2] - e1[2] * e2[1],
+            e1[2] * e2[0] - e1[0] * e2[2],
+            e1[0] * e2[1] - e1[1] * e2[0],
+        ];
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        if dot(n, c) < 0.1 * (dot(n, n) * dot(c, c)).sqrt() {
+            continue;
+        }
+        let origin = place(c.map(|x| x * (1.0 - 1e-3)));
+        for (a, b) in [(0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (2, 0)] {
+            let t: [f64; 3] = std::array::from_fn(|k| (v[a][k] + v[b][k]) / 2.0);
+            let d = place(t) - origin;
+            if d != gridrt_grid::Vec3::ZERO && d.is_finite() {
+                rays.push(Ray::new(origin, d));
+            }
+        }
+    }
+    rays
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
 
@@ -80,6 +122,34 @@ proptest! {
         let mesh = random_star(seed, splits, r_min);
         let report = probe(&mesh, scale, offset);
         prop_assert!(report.is_empty(), "{}", report);
+    }
+
+    /// Rays that start just inside a face and graze along it to its
+    /// vertices and edges hit, and the grid agrees with the baseline.
+    #[test]
+    fn grazing_rays_never_leak(
+        seed in any::<u64>(),
+        splits in 0u32..120,
+        scale_exp in -8.0f64..8.0,
+        offset in prop_oneof![Just(0.0), -1e6f64..1e6],
+    ) {
+        let scale = 10f64.powf(scale_exp);
+        // The origins lie 10⁻³ of the mesh's size inside.
+        prop_assume!(resolved(scale * 1e-3, offset.abs(), 0.3));
+        let mesh = random_star(seed, splits, 0.3);
+        let tris = mesh.triangles(scale, offset);
+        let ex = Exhaustive::new(tris.clone());
+        let grid = Grid::build(tris, &GridConfig::default());
+        let (mut se, mut sg) = (ex.scratch(), grid.scratch());
+        let rays = grazing_rays(&mesh, scale, offset);
+        let (mut leaks, mut mismatches) = (0, 0);
+        for r in &rays {
+            let want = closest(&ex, r, &mut se);
+            leaks += usize::from(want.is_none());
+            mismatches += usize::from(closest(&grid, r, &mut sg) != want);
+        }
+        prop_assert!(leaks + mismatches == 0, "{}: {} leaks, {} mismatches of {} rays",
+            mesh.name, leaks, mismatches, rays.len());
     }
 }
 
