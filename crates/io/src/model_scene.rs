@@ -123,6 +123,7 @@ pub fn scene_from_model(model: Model) -> LoadedScene {
     }
     LoadedScene {
         scene: Scene {
+            textures: Default::default(),
             camera,
             settings: Settings {
                 width,

@@ -352,6 +352,7 @@ impl<'a> Builder<'a> {
         };
         Ok(LoadedScene {
             scene: Scene {
+                textures: Default::default(),
                 camera,
                 settings,
                 materials: self.materials,

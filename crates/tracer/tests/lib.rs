@@ -19,5 +19,6 @@ mod progress;
 mod rows;
 mod shading_normals;
 mod suffern;
+mod textures;
 mod ties;
 mod watertight;
