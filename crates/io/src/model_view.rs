@@ -199,6 +199,7 @@ mod tests {
             materials: vec![],
             cameras: vec![],
             lights: vec![],
+            textures: Vec::new(),
             warnings: vec![],
         }
     }

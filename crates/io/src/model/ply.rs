@@ -263,6 +263,7 @@ pub(crate) fn load(path: &Path, bytes: &[u8], sandbox: &Sandbox) -> Result<Model
         materials: Vec::new(),
         cameras: Vec::new(),
         lights: Vec::new(),
+        textures: Vec::new(),
         warnings,
     })
 }
@@ -300,7 +301,8 @@ fn build_mesh(
     let uvs: Vec<glam::Vec2> = vertices
         .iter()
         .map_while(|v| match v.uv {
-            [Some(u), Some(w)] => Some(glam::Vec2::new(u as f32, w as f32)),
+            // PLY's v grows upwards; texture space's downwards.
+            [Some(u), Some(w)] => Some(glam::Vec2::new(u as f32, 1.0 - w as f32)),
             _ => None,
         })
         .collect();
@@ -385,7 +387,7 @@ mod tests {
         let mesh = &m.meshes[0].mesh;
         assert_eq!(mesh.triangles, vec![[0, 1, 2], [0, 2, 3]]);
         assert_eq!(mesh.normals, vec![Vec3::Z; 4]);
-        assert_eq!(mesh.uvs[2], glam::Vec2::new(1.0, 1.0));
+        assert_eq!(mesh.uvs[2], glam::Vec2::new(1.0, 0.0));
         assert_eq!(mesh.name, "m.ply");
         assert!(m.warnings.is_empty(), "{:?}", m.warnings);
     }

@@ -220,10 +220,11 @@ pub struct MaterialMaps {
     pub normal: Option<TextureRef>,
     /// Scale of the normal map's X and Y (glTF `normalTexture.scale`).
     pub normal_scale: f32,
-    /// A height (bump) map: its first channel, times `bump_scale` world
-    /// units, displaces the shading normal (MTL `map_Bump`, `bump`).
+    /// A height (bump) map: its first channel times `bump_scale` is a
+    /// height in texture-coordinate units (1 = the texture's width) that
+    /// tilts the shading normal (MTL `map_Bump`, `bump`).
     pub bump: Option<TextureRef>,
-    /// Height of a bump-map value of 1, world units.
+    /// Height of a bump-map value of 1, texture-coordinate units.
     pub bump_scale: f32,
     /// An opacity map: its first channel multiplies alpha (MTL `map_d`).
     pub opacity: Option<TextureRef>,

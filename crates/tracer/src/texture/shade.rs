@@ -187,8 +187,8 @@ fn normal_mapped(t: [f32; 4], scale: f32, ns: Vec3, f: TriFrame) -> Option<Vec3>
 }
 
 /// The shading normal displaced by a height map (pbrt's `BumpMap`, without
-/// the normal's own derivatives): finite differences of the height over
-/// about one texel or the footprint, whichever is larger.
+/// the normal's own derivatives): finite differences of the height, in
+/// texture units, over about one texel or the footprint, whichever is larger.
 fn bumped(
     data: &TextureData,
     r: &super::TextureRef,
@@ -210,10 +210,11 @@ fn bumped(
         lookup(&data.list, r, &q).map_or(0.0, |t| t[0])
     };
     let h0 = h(0.0, 0.0);
+    // Slopes in texture space; a step along u covers |dp/du| in world space.
     let hu = (h(d, 0.0) - h0) / d * scale;
     let hv = (h(0.0, d) - h0) / d * scale;
-    let dpdu = f.dpdu + ns * hu as Real;
-    let dpdv = f.dpdv + ns * hv as Real;
+    let dpdu = f.dpdu + ns * (hu as Real * f.dpdu.length());
+    let dpdv = f.dpdv + ns * (hv as Real * f.dpdv.length());
     let n = dpdu.cross(dpdv).try_normalize()?;
     Some(if n.dot(ns) < 0.0 { -n } else { n })
 }
