@@ -191,6 +191,7 @@ mod tests {
                     positions,
                     normals: vec![],
                     uvs: vec![],
+                    colors: vec![],
                     triangles,
                 },
                 material: None,

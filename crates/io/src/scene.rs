@@ -280,7 +280,10 @@ impl<'a> Builder<'a> {
 
     fn build(mut self, file: SceneFile) -> Result<LoadedScene> {
         for (name, desc) in &file.materials.0 {
-            self.push_material(name.clone(), desc.material());
+            let id = self.push_material(name.clone(), desc.material());
+            if let Some(t) = desc.texture() {
+                crate::schema_textures::bind(&mut self.textures, id, t);
+            }
         }
         // Generated objects are counted before any is generated.
         let mut planned = 0u64;

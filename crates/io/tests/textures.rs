@@ -132,3 +132,24 @@ fn shared_textured_models_render_in_colour() {
         );
     }
 }
+
+#[test]
+fn ply_vertex_colours_are_read_and_srgb_decoded() {
+    let dir = tempfile::tempdir().unwrap();
+    let ply = dir.path().join("c.ply");
+    std::fs::write(
+        &ply,
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+         property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n\
+         element face 1\nproperty list uchar int vertex_indices\nend_header\n\
+         0 0 0 255 0 0\n1 0 0 0 255 0\n0 1 0 188 188 188\n3 0 1 2\n",
+    )
+    .unwrap();
+    let m = load_model(&ply).unwrap();
+    let c = &m.meshes[0].mesh.colors;
+    assert_eq!(c.len(), 3);
+    assert_eq!(c[0], Rgb::new(1.0, 0.0, 0.0));
+    // sRGB 188 is linear 0.5.
+    assert!((c[2].x - 0.5).abs() < 0.01, "{}", c[2]);
+    assert!(m.warnings.is_empty(), "{:?}", m.warnings);
+}

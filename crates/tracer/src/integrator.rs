@@ -20,6 +20,8 @@ use std::f32::consts::FRAC_1_PI;
 pub(crate) struct MeshShading {
     /// Empty (flat shading) or one per vertex.
     pub normals: Vec<Vec3>,
+    /// Empty, or one albedo per vertex.
+    pub colors: Vec<Rgb>,
     pub triangles: Vec<[u32; 3]>,
     /// Empty (untextured) or one per vertex.
     pub uvs: Vec<glam::Vec2>,
@@ -275,6 +277,21 @@ where
         Some((uv, frame))
     }
 
+    /// The interpolated vertex colour at barycentrics `(u, v)` of
+    /// primitive `i`, when it is a triangle of a mesh with colours.
+    #[inline]
+    fn vertex_color(&self, i: usize, u: Real, v: Real) -> Option<Rgb> {
+        let m = self.data.prim_mesh.get(i).filter(|m| m.mesh != u32::MAX)?;
+        let mesh = &self.data.meshes[m.mesh as usize];
+        if mesh.colors.is_empty() {
+            return None;
+        }
+        let [a, b, c] = mesh.triangles[m.tri as usize];
+        let (u, v) = (crate::float::to_f32(u), crate::float::to_f32(v));
+        let k = |j: u32| mesh.colors[j as usize];
+        Some(k(a) * (1.0 - u - v) + k(b) * u + k(c) * v)
+    }
+
     /// Whether anything lies on the ray within `[0, t_max]`.
     #[inline]
     pub(crate) fn occluded(&self, ray: &Ray, t_max: Real, scratch: &mut A::Scratch) -> bool {
@@ -338,7 +355,9 @@ where
                     sp,
                     material: self.data.prim_material.get(i),
                     ns,
-                    albedo: self.data.prim_albedo.get(i).copied(),
+                    albedo: self
+                        .vertex_color(i, h.u, h.v)
+                        .or_else(|| self.data.prim_albedo.get(i).copied()),
                     emission: Rgb::ZERO,
                 };
                 self.textured(ray, sh, || self.uv_at(i, h.u, h.v))

@@ -302,7 +302,12 @@ fn validate(scene: &Scene, set: Option<&SphereSet>) -> Result<(usize, bool), Sce
             Geometry::Mesh(m) => {
                 let nv = m.positions.len();
                 let name = || m.name.clone();
-                for (attribute, n) in [("normals", m.normals.len()), ("uvs", m.uvs.len())] {
+                let counts = [
+                    ("normals", m.normals.len()),
+                    ("uvs", m.uvs.len()),
+                    ("colors", m.colors.len()),
+                ];
+                for (attribute, n) in counts {
                     if n != 0 && n != nv {
                         return Err(SceneError::MeshAttributeCount {
                             object: i,
@@ -322,6 +327,14 @@ fn validate(scene: &Scene, set: Option<&SphereSet>) -> Result<(usize, bool), Sce
                             vertex: v,
                         });
                     }
+                }
+                if let Some(v) = m.colors.iter().position(|c| !color_ok(*c)) {
+                    return Err(SceneError::MeshNotFinite {
+                        object: i,
+                        mesh: name(),
+                        attribute: "colour (or a negative one)",
+                        vertex: v,
+                    });
                 }
                 for (t, tri) in m.triangles.iter().enumerate() {
                     if let Some(&index) = tri.iter().find(|&&k| k as usize >= nv) {
@@ -544,6 +557,7 @@ fn mesh_shading(m: &crate::scene::Mesh, uvs: bool) -> MeshShading {
     };
     MeshShading {
         normals: m.normals.clone(),
+        colors: m.colors.clone(),
         triangles: m.triangles.clone(),
         uvs: uv,
         frames,
@@ -604,7 +618,7 @@ fn convert(
         || scene
             .objects
             .iter()
-            .any(|o| matches!(&o.geometry, Geometry::Mesh(m) if !m.normals.is_empty()));
+            .any(|o| matches!(&o.geometry, Geometry::Mesh(m) if !m.normals.is_empty() || !m.colors.is_empty()));
     let mut record = |material: u32, mesh: MeshRef, data: &mut SceneData| {
         if uniform.is_none() {
             per_prim.push(material);
@@ -671,7 +685,7 @@ fn convert(
                 Geometry::Plane { .. } => {}
                 Geometry::Mesh(m) => {
                     let uvs = textured && !m.uvs.is_empty() && data.tex.of(o.material).is_some();
-                    let mesh_id = if m.normals.is_empty() && !uvs {
+                    let mesh_id = if m.normals.is_empty() && m.colors.is_empty() && !uvs {
                         u32::MAX
                     } else {
                         data.meshes.push(mesh_shading(m, uvs));

@@ -27,6 +27,7 @@ fn quad(r: Real, y: Real, tiles: f32) -> Geometry {
             glam::Vec2::new(t, t),
             glam::Vec2::new(t, 0.0),
         ],
+        colors: vec![],
         triangles: vec![[0, 1, 2], [0, 2, 3]],
     }))
 }
@@ -223,4 +224,28 @@ fn a_reference_to_a_missing_texture_is_an_error() {
     s.textures.maps.push(base_color(5));
     let e = gridrt_tracer::render(&s, &Default::default()).unwrap_err();
     assert!(e.to_string().contains("texture 5"), "{e}");
+}
+
+#[test]
+fn vertex_colours_replace_the_albedo_and_interpolate() {
+    let mut s = top_view(8, 8);
+    let m = material(&mut s, matte(Rgb::splat(0.3), 1.0, 0.0));
+    s.lights.push(ambient(1.0));
+    let Geometry::Mesh(mut mesh) = quad(1.0, 0.0, 1.0) else {
+        unreachable!()
+    };
+    // Corners at x = −1 red, at x = +1 green.
+    let (red, green) = (Rgb::new(1.0, 0.0, 0.0), Rgb::new(0.0, 1.0, 0.0));
+    mesh.colors = vec![red, red, green, green];
+    object(&mut s, Geometry::Mesh(mesh), m);
+    let (img, _) = render(&s);
+    let (left, right) = (img.get(0, 4), img.get(7, 4));
+    assert!(left.x > 0.8 && left.y < 0.2, "{left}");
+    assert!(right.y > 0.8 && right.x < 0.2, "{right}");
+    // Halfway, half of each.
+    let mid = (img.get(3, 4) + img.get(4, 4)) * 0.5;
+    assert!(
+        (mid.x - 0.5).abs() < 0.1 && (mid.y - 0.5).abs() < 0.1,
+        "{mid}"
+    );
 }

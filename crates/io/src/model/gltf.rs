@@ -498,6 +498,7 @@ impl Loader<'_> {
                 (self.path, place),
                 &mut self.warnings,
             ),
+            colors: Vec::new(),
             triangles,
         };
         let xf = Xform::new(world).map_err(|e| err(format!("node transform: {e}")))?;

@@ -355,6 +355,7 @@ mod tests {
             positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
             normals: vec![Vec3::Z; 3],
             uvs: vec![],
+            colors: vec![],
             triangles: vec![[0, 1, 2]],
         }
     }

@@ -216,6 +216,7 @@ fn convert_mesh(
         positions,
         normals,
         uvs,
+        colors: Vec::new(),
         triangles,
     };
     check_normals(&mut mesh, warnings);
