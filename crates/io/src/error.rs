@@ -128,6 +128,20 @@ pub enum Error {
         msg: String,
     },
 
+    /// A texture image cannot be decoded (not a PNG, JPEG, HDR or EXR
+    /// image, truncated, too large) or a texture reference is invalid.
+    /// `path` is the image file, or the model file for an embedded image;
+    /// `place` names the image and the material that uses it.
+    #[error("{}{}: {msg}", .path.display(), Place(.place))]
+    Texture {
+        /// The image file, or the model that embeds the image.
+        path: PathBuf,
+        /// Which image and material, or empty.
+        place: String,
+        /// What is wrong and how to fix it.
+        msg: String,
+    },
+
     /// A glTF file is malformed or uses something gridrt does not support:
     /// invalid JSON, a missing or short buffer, an accessor out of bounds,
     /// non-finite positions, no meshes.

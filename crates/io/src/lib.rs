@@ -78,8 +78,10 @@ mod rays;
 mod ron_text;
 mod sandbox;
 mod scene;
+mod scene_transform;
 mod schema;
 mod schema_settings;
+mod schema_textures;
 
 pub use aov_out::{
     aov_png_path, parse_aovs, stage_aov_pngs, stage_exr_with_aovs, write_aov_pngs,

@@ -10,7 +10,7 @@ use crate::schema;
 use glam::DVec3;
 use gridrt_bbox::{Aabb, Real, Vec3};
 use gridrt_tracer::{
-    Camera, Geometry, Material, MaterialId, Object, Projection, Rgb, Scene, Settings,
+    Camera, Geometry, Material, MaterialId, Object, Projection, Rgb, Scene, Settings, Textures,
 };
 
 /// A perspective camera that sees the whole box: it looks at the centre from
@@ -121,8 +121,14 @@ pub fn scene_from_model(model: Model) -> LoadedScene {
         });
         materials.push(ground);
     }
+    // The model's materials keep their indices: their maps do too.
+    let textures = Textures {
+        list: model.textures.clone(),
+        maps: model.materials.iter().map(|m| m.maps.clone()).collect(),
+    };
     LoadedScene {
         scene: Scene {
+            textures,
             camera,
             settings: Settings {
                 width,

@@ -191,6 +191,7 @@ mod tests {
                     positions,
                     normals: vec![],
                     uvs: vec![],
+                    colors: vec![],
                     triangles,
                 },
                 material: None,
@@ -199,6 +200,7 @@ mod tests {
             materials: vec![],
             cameras: vec![],
             lights: vec![],
+            textures: Vec::new(),
             warnings: vec![],
         }
     }

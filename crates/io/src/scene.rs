@@ -2,17 +2,19 @@
 //! files rendered on their own, turned into the tracer's [`Scene`].
 
 use crate::error::{Error, Result};
+use crate::model::texture_load;
 use crate::model::{self, to_dvec3, to_vec3, Model, ModelFormat};
 use crate::model_scene::{frame, scene_from_model};
 use crate::ron_text::{line_col, ron_error, Outline};
 use crate::sandbox::Sandbox;
+use crate::scene_transform::transform_matrix;
 use crate::schema::{
     self, CameraDesc, LightDesc, ObjectDesc, ProjectionDesc, SceneFile, TransformDesc,
 };
-use glam::{DMat4, DQuat, DVec3};
+use glam::{DMat4, DVec3};
 use gridrt_bbox::{Aabb, Real, Vec3};
 use gridrt_tracer::{
-    Camera, Geometry, Light, Material, MaterialId, Object, Projection, Scene, Settings,
+    Camera, Geometry, Light, Material, MaterialId, Object, Projection, Scene, Settings, Textures,
 };
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -169,6 +171,7 @@ struct Builder<'a> {
     names: Vec<(String, MaterialId)>,
     default_material: Option<MaterialId>,
     objects: Vec<Object>,
+    textures: Textures,
     warnings: Vec<String>,
 }
 
@@ -187,7 +190,7 @@ fn num(x: f64) -> String {
 
 /// The unit vector along `v` (finite, non-zero), computed without
 /// overflow: `(1e300, 0, 0)` is `(1, 0, 0)`, not a zero vector.
-fn unit(v: [f64; 3]) -> DVec3 {
+pub(crate) fn unit(v: [f64; 3]) -> DVec3 {
     let d = DVec3::from_array(v);
     let m = d.abs().max_element();
     if m > 0.0 && m.is_finite() {
@@ -216,6 +219,7 @@ impl<'a> Builder<'a> {
             names: Vec::new(),
             default_material: None,
             objects: Vec::new(),
+            textures: Textures::default(),
             warnings: Vec::new(),
         }
     }
@@ -276,7 +280,10 @@ impl<'a> Builder<'a> {
 
     fn build(mut self, file: SceneFile) -> Result<LoadedScene> {
         for (name, desc) in &file.materials.0 {
-            self.push_material(name.clone(), desc.material());
+            let id = self.push_material(name.clone(), desc.material());
+            if let Some(t) = desc.texture() {
+                crate::schema_textures::bind(&mut self.textures, id, t);
+            }
         }
         // Generated objects are counted before any is generated.
         let mut planned = 0u64;
@@ -352,6 +359,7 @@ impl<'a> Builder<'a> {
         };
         Ok(LoadedScene {
             scene: Scene {
+                textures: self.textures,
                 camera,
                 settings,
                 materials: self.materials,
@@ -686,6 +694,7 @@ impl<'a> Builder<'a> {
         };
         // File material index → scene material id, filled as meshes use them.
         let mut mapped: Vec<Option<MaterialId>> = vec![None; model.materials.len()];
+        let offset = model::texture_load::append(&mut self.textures, &model.textures);
         let stem = Path::new(file)
             .file_name()
             .map_or_else(|| file.to_string(), |n| n.to_string_lossy().into_owned());
@@ -700,10 +709,12 @@ impl<'a> Builder<'a> {
                             Some(to) => self.material_id(Some(to), what)?,
                             None => match forced {
                                 Some(f) => f,
-                                None => self.push_material(
-                                    format!("{stem}:{}", fm.name),
-                                    fm.material.clone(),
-                                ),
+                                None => {
+                                    let name = format!("{stem}:{}", fm.name);
+                                    let id = self.push_material(name, fm.material.clone());
+                                    texture_load::bind(&mut self.textures, id, &fm.maps, offset);
+                                    id
+                                }
                             },
                         };
                         mapped[k] = Some(id);
@@ -730,27 +741,6 @@ impl<'a> Builder<'a> {
                 .filter(|w| !w.contains(model::SPOT_WARNING)),
         );
         Ok(())
-    }
-}
-
-/// One transform step as a matrix.
-fn transform_matrix(op: &TransformDesc) -> DMat4 {
-    match op {
-        TransformDesc::Translate(t) => DMat4::from_translation(DVec3::from_array(t.0)),
-        TransformDesc::Scale(s) => DMat4::from_scale(DVec3::from_array(s.0)),
-        TransformDesc::Rotate { axis, degrees } => {
-            DMat4::from_axis_angle(unit(axis.0), degrees.0.to_radians())
-        }
-        TransformDesc::Euler { x, y, z } => DMat4::from_quat(DQuat::from_euler(
-            glam::EulerRot::ZYX,
-            z.0.to_radians(),
-            y.0.to_radians(),
-            x.0.to_radians(),
-        )),
-        TransformDesc::Matrix(m) => {
-            // Rows in the file; glam wants columns.
-            DMat4::from_cols_array_2d(&m.0).transpose()
-        }
     }
 }
 

@@ -8,6 +8,7 @@
 //! carries the position of the value. `docs/scene-format.md` documents every
 //! field with an example; keep it in step.
 
+use crate::schema_textures::TextureDesc;
 use gridrt_tracer::{Material, MAX_PIXELS};
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::Deserialize;
@@ -393,6 +394,8 @@ pub(crate) enum MaterialDesc {
         ka: NonNeg,
         #[serde(default = "default_kd")]
         kd: NonNeg,
+        #[serde(default)]
+        texture: Option<TextureDesc>,
     },
     /// `Phong(color, ka, kd, ks: 0.25, exp: 32, specular: (1, 1, 1))`.
     Phong {
@@ -408,6 +411,8 @@ pub(crate) enum MaterialDesc {
         exp: Positive,
         #[serde(default = "white")]
         specular: Color,
+        #[serde(default)]
+        texture: Option<TextureDesc>,
     },
     /// `Reflective(color, ka: 0, kd: 0, ks: 0, exp: 100, kr: 1, reflect: (1, 1, 1))`;
     /// the defaults make a perfect mirror.
@@ -426,6 +431,8 @@ pub(crate) enum MaterialDesc {
         kr: NonNeg,
         #[serde(default = "white")]
         reflect: Color,
+        #[serde(default)]
+        texture: Option<TextureDesc>,
     },
     /// `Dielectric(ior: 1.5, tint: (1, 1, 1))`.
     Dielectric {
@@ -682,9 +689,19 @@ pub(crate) fn ron_options() -> ron::Options {
 
 impl MaterialDesc {
     /// The tracer's material.
+    /// The procedural texture multiplying the colour, if any.
+    pub(crate) fn texture(&self) -> Option<&TextureDesc> {
+        match self {
+            MaterialDesc::Matte { texture, .. }
+            | MaterialDesc::Phong { texture, .. }
+            | MaterialDesc::Reflective { texture, .. } => texture.as_ref(),
+            MaterialDesc::Dielectric { .. } | MaterialDesc::Emissive { .. } => None,
+        }
+    }
+
     pub(crate) fn material(&self) -> Material {
         match self {
-            MaterialDesc::Matte { color, ka, kd } => Material::Matte {
+            MaterialDesc::Matte { color, ka, kd, .. } => Material::Matte {
                 color: rgb(color.0),
                 ka: f64_to_f32(ka.0),
                 kd: f64_to_f32(kd.0),
@@ -696,6 +713,7 @@ impl MaterialDesc {
                 ks,
                 exp,
                 specular,
+                ..
             } => Material::Phong {
                 color: rgb(color.0),
                 ka: f64_to_f32(ka.0),
@@ -712,6 +730,7 @@ impl MaterialDesc {
                 exp,
                 kr,
                 reflect,
+                ..
             } => Material::Reflective {
                 color: rgb(color.0),
                 ka: f64_to_f32(ka.0),

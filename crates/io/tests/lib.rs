@@ -18,6 +18,7 @@ mod ply;
 mod robustness_switches;
 mod shared;
 mod stats;
+mod textures;
 mod untrusted;
 mod untrusted_messages;
 mod untrusted_outputs;

@@ -133,7 +133,13 @@ fn gltf_materials_cameras_and_lights() {
             Material::Emissive { .. } => "emissive",
         })
         .collect();
-    assert_eq!(kinds, ["matte", "reflective", "emissive", "dielectric"]);
+    // BLEND is the material's alpha mode (a simple transmission), not glass.
+    assert_eq!(kinds, ["matte", "reflective", "emissive", "reflective"]);
+    assert_eq!(
+        m.materials[3].maps.alpha_mode,
+        gridrt_tracer::texture::AlphaMode::Blend
+    );
+    assert!(m.materials[3].maps.alpha < 1.0);
     let cam = m.cameras.first().unwrap();
     assert!(close(cam.camera.eye, Vec3::new(0.0, 1.0, 8.0)));
     assert!(close(cam.camera.look_at, Vec3::new(0.0, 1.0, 7.0)));

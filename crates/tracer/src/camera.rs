@@ -113,6 +113,17 @@ impl CameraModel {
         })
     }
 
+    /// A pixel's width in world units at distance `d` along a camera ray
+    /// is `footprint[0] + footprint[1]·d` (the spread of a pinhole's rays,
+    /// or the constant width of parallel ones): texture lookups filter over it.
+    pub(crate) fn footprint(&self) -> [f32; 2] {
+        let s = crate::float::to_f32(self.pixel_size);
+        match self.distance {
+            Some(d) => [0.0, s / crate::float::to_f32(d)],
+            None => [s, 0.0],
+        }
+    }
+
     /// The ray through the point `(c + jx, r + jy)` of the pixel grid, where
     /// `c` is the column and `r` the row counted **from the bottom** (Suffern's
     /// convention) and `jx, jy ∈ [0, 1)` the position inside the pixel

@@ -161,6 +161,14 @@ pub enum SceneError {
         /// What is wrong and what to do.
         reason: &'static str,
     },
+    /// A texture or a material's texture maps are invalid (a reference to
+    /// a texture that does not exist, a factor out of range, a procedural
+    /// parameter out of range). The reason names the material or texture.
+    #[error("textures: {reason}")]
+    BadTextures {
+        /// What is wrong, naming the material or texture.
+        reason: String,
+    },
     /// A sphere set has colours, but not one per sphere.
     #[error("sphere set: {colors} colours for {spheres} spheres; give none or one per sphere")]
     SphereSetColors {

@@ -9,15 +9,24 @@ use crate::robustness::RayOffset;
 use crate::sampling::SampleStream;
 use crate::scene::{Material, Rgb};
 use crate::shapes::{Plane, Surface, SurfacePoint};
+use crate::texture::shade::{self, TextureData, TriFrame};
 use gridrt_bbox::{gamma, Ray, Real, Vec3};
 use gridrt_grid::{Accelerator, Hit};
 use std::f32::consts::FRAC_1_PI;
 
-/// Per-vertex normals of a mesh, for smooth shading.
+/// Per-vertex normals of a mesh, for smooth shading, and its texture
+/// coordinates with each triangle's texture frame, for texturing.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct MeshShading {
+    /// Empty (flat shading) or one per vertex.
     pub normals: Vec<Vec3>,
+    /// Empty, or one albedo per vertex.
+    pub colors: Vec<Rgb>,
     pub triangles: Vec<[u32; 3]>,
+    /// Empty (untextured) or one per vertex.
+    pub uvs: Vec<glam::Vec2>,
+    /// One per triangle when `uvs` is not empty.
+    pub frames: Vec<TriFrame>,
 }
 
 /// Which mesh triangle a grid primitive is (`mesh == u32::MAX`: not a
@@ -103,6 +112,8 @@ pub(crate) struct SceneData {
     pub path_depth: u32,
     /// How secondary rays leave surfaces (`RenderOptions::ray_offset`).
     pub ray_offset: RayOffset,
+    /// Textures and the materials' maps.
+    pub tex: TextureData,
 }
 
 /// What a ray found: a grid primitive or a plane.
@@ -153,8 +164,11 @@ pub(crate) struct Shading {
     pub(crate) material: u32,
     /// Shading normal (interpolated for smooth meshes), outward.
     pub(crate) ns: Vec3,
-    /// The primitive's own colour, replacing the material's albedo.
+    /// The primitive's own colour (or its textured one), replacing the
+    /// material's albedo.
     pub(crate) albedo: Option<Rgb>,
+    /// Radiance emitted by an emission map (zero without one).
+    pub(crate) emission: Rgb,
 }
 
 impl Shading {
@@ -200,10 +214,7 @@ where
         t_max: Real,
         scratch: &mut A::Scratch,
     ) -> Option<Found> {
-        let mut best = self
-            .accel
-            .closest_hit(ray, 0.0, t_max, scratch)
-            .map(Found::Prim);
+        let mut best = self.closest_prim(ray, t_max, scratch).map(Found::Prim);
         if !self.data.planes.is_empty() {
             let mut far = best.map_or(t_max, |b| b.t());
             for (i, p) in self.data.planes.iter().enumerate() {
@@ -218,15 +229,82 @@ where
         best
     }
 
+    /// The accelerator's closest hit in `[0, t_max]`, skipping the
+    /// surfaces a ray passes through (alpha cut-outs and blending): the
+    /// query restarts just beyond each such hit.
+    #[inline]
+    fn closest_prim(&self, ray: &Ray, t_max: Real, scratch: &mut A::Scratch) -> Option<Hit> {
+        let mut t_min = 0.0;
+        loop {
+            let h = self.accel.closest_hit(ray, t_min, t_max, scratch)?;
+            if !self.data.tex.alpha || !self.passes(ray, &h) {
+                return Some(h);
+            }
+            t_min = crate::float::next_up(h.t);
+        }
+    }
+
+    /// Whether `ray` passes through primitive hit `h` (alpha).
+    fn passes(&self, ray: &Ray, h: &Hit) -> bool {
+        let i = h.prim as usize;
+        let material = self.data.prim_material.get(i);
+        let Some(maps) = self.data.tex.of(material) else {
+            return false;
+        };
+        let p = ray.at(h.t);
+        let uv = self.uv_at(i, h.u, h.v);
+        // Alpha is read at the finest level: cut-out edges stay sharp.
+        let q = crate::texture::TexQuery {
+            uv: uv.map_or(glam::Vec2::ZERO, |(uv, _)| uv),
+            p,
+            width: 0.0,
+        };
+        self.data.tex.passes(maps, &q, ray, h.t)
+    }
+
+    /// Texture coordinates and the triangle's texture frame at barycentrics
+    /// `(u, v)` of primitive `i`, when it is a textured mesh triangle.
+    #[inline]
+    fn uv_at(&self, i: usize, u: Real, v: Real) -> Option<(glam::Vec2, TriFrame)> {
+        let m = self.data.prim_mesh.get(i).filter(|m| m.mesh != u32::MAX)?;
+        let mesh = &self.data.meshes[m.mesh as usize];
+        let frame = *mesh.frames.get(m.tri as usize)?;
+        let [a, b, c] = mesh.triangles[m.tri as usize];
+        let (u, v) = (crate::float::to_f32(u), crate::float::to_f32(v));
+        let uv = mesh.uvs[a as usize] * (1.0 - u - v)
+            + mesh.uvs[b as usize] * u
+            + mesh.uvs[c as usize] * v;
+        Some((uv, frame))
+    }
+
+    /// The interpolated vertex colour at barycentrics `(u, v)` of
+    /// primitive `i`, when it is a triangle of a mesh with colours.
+    #[inline]
+    fn vertex_color(&self, i: usize, u: Real, v: Real) -> Option<Rgb> {
+        let m = self.data.prim_mesh.get(i).filter(|m| m.mesh != u32::MAX)?;
+        let mesh = &self.data.meshes[m.mesh as usize];
+        if mesh.colors.is_empty() {
+            return None;
+        }
+        let [a, b, c] = mesh.triangles[m.tri as usize];
+        let (u, v) = (crate::float::to_f32(u), crate::float::to_f32(v));
+        let k = |j: u32| mesh.colors[j as usize];
+        Some(k(a) * (1.0 - u - v) + k(b) * u + k(c) * v)
+    }
+
     /// Whether anything lies on the ray within `[0, t_max]`.
     #[inline]
     pub(crate) fn occluded(&self, ray: &Ray, t_max: Real, scratch: &mut A::Scratch) -> bool {
-        self.accel.any_hit(ray, 0.0, t_max, scratch)
-            || self
-                .data
-                .planes
-                .iter()
-                .any(|p| p.intersect(ray, 0.0, t_max).is_some())
+        let hit = if self.data.tex.alpha {
+            self.closest_prim(ray, t_max, scratch).is_some()
+        } else {
+            self.accel.any_hit(ray, 0.0, t_max, scratch)
+        };
+        hit || self
+            .data
+            .planes
+            .iter()
+            .any(|p| p.intersect(ray, 0.0, t_max).is_some())
     }
 
     /// Starts loading the per-primitive data [`Tracer::shading`] will read
@@ -260,8 +338,8 @@ where
                 let sp = self.accel.primitives()[i].surface(ray, h.t, h.u, h.v);
                 let mut ns = sp.n;
                 if let Some(m) = self.data.prim_mesh.get(i) {
-                    if m.mesh != u32::MAX {
-                        let mesh = &self.data.meshes[m.mesh as usize];
+                    let mesh = self.data.meshes.get(m.mesh as usize);
+                    if let Some(mesh) = mesh.filter(|mesh| !mesh.normals.is_empty()) {
                         let [a, b, c] = mesh.triangles[m.tri as usize];
                         let n = mesh.normals[a as usize] * (1.0 - h.u - h.v)
                             + mesh.normals[b as usize] * h.u
@@ -272,25 +350,65 @@ where
                         }
                     }
                 }
-                Shading {
+                let sh = Shading {
                     t: h.t,
                     sp,
                     material: self.data.prim_material.get(i),
                     ns,
-                    albedo: self.data.prim_albedo.get(i).copied(),
-                }
+                    albedo: self
+                        .vertex_color(i, h.u, h.v)
+                        .or_else(|| self.data.prim_albedo.get(i).copied()),
+                    emission: Rgb::ZERO,
+                };
+                self.textured(ray, sh, || self.uv_at(i, h.u, h.v))
             }
             Found::Plane { index, t } => {
                 let sp = self.data.planes[index as usize].surface(ray, t);
-                Shading {
+                let sh = Shading {
                     t,
                     sp,
                     material: self.data.plane_material[index as usize],
                     ns: sp.n,
                     albedo: None,
-                }
+                    emission: Rgb::ZERO,
+                };
+                self.textured(ray, sh, || None)
             }
         }
+    }
+
+    /// `sh` with its material's textures applied (unchanged without any).
+    #[inline]
+    fn textured(
+        &self,
+        ray: &Ray,
+        mut sh: Shading,
+        uv: impl FnOnce() -> Option<(glam::Vec2, TriFrame)>,
+    ) -> Shading {
+        let Some(maps) = self.data.tex.of(sh.material) else {
+            return sh;
+        };
+        let uv = uv();
+        let q = self.data.tex.query(ray, sh.t, sh.sp.p, sh.sp.n, uv);
+        let base = sh.albedo.unwrap_or_else(|| {
+            self.data
+                .materials
+                .get(sh.material as usize)
+                .map_or(Rgb::ONE, crate::prepare::albedo)
+        });
+        let t = shade::apply(
+            &self.data.tex,
+            maps,
+            &q,
+            base,
+            sh.ns,
+            sh.sp.n,
+            uv.map(|(_, f)| f),
+        );
+        sh.albedo = t.albedo.or(sh.albedo);
+        sh.emission = t.emission;
+        sh.ns = t.ns;
+        sh
     }
 }
 
@@ -468,7 +586,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
             Material::Emissive { color, strength } => color * strength,
         };
         Li {
-            color,
+            color: color + sh.emission,
             t,
             hit: true,
         }

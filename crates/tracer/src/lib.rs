@@ -39,6 +39,7 @@
 //!         geometry: Geometry::Sphere { center: Vec3::ZERO, radius: 1.0 },
 //!         material: 0,
 //!     }],
+//!     textures: Default::default(),
 //! };
 //! let (image, stats) = render(&scene, &RenderOptions::default()).unwrap();
 //! assert_eq!(image.pixels.len(), 32 * 24);
@@ -90,6 +91,7 @@ mod serde_support;
 mod shapes;
 mod stats;
 pub mod suffern;
+pub mod texture;
 
 pub use aov::{Aov, AovImage};
 pub use error::{Cancelled, SceneError};
@@ -105,6 +107,7 @@ pub use scene::{
     Scene, Settings,
 };
 pub use shapes::{Cuboid, MtTriangle, Plane, Shape, Sphere, Triangle, MT_EPSILON};
+pub use texture::{MaterialMaps, Texture, TextureRef, Textures};
 
 /// The README's Rust examples, compiled and run as doc tests.
 #[cfg(doctest)]

@@ -21,6 +21,7 @@ use gridrt_bbox::{Real, Vec3};
 /// the camera at `eye` looking at `look`.
 fn floor_scene(eye: Vec3, look: Vec3, floor: Vec3) -> Scene {
     Scene {
+        textures: Default::default(),
         camera: Camera {
             eye,
             look_at: look,

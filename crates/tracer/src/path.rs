@@ -353,6 +353,9 @@ impl Integrator for PathTracer {
                 first.hit = true;
             }
             let wo = -ray.dir;
+            // Emission maps are not sampled as lights: what paths hit counts
+            // in full.
+            l += beta * sh.emission;
             let (bounce, ng_side) = match data.materials[sh.material as usize] {
                 Material::Emissive { color, strength } => {
                     if sh.sp.n.dot(wo) > 0.0 {

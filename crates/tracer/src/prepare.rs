@@ -9,6 +9,7 @@ use crate::integrator::{DirectLight, MeshRef, MeshShading, PrimMaterials, SceneD
 use crate::plan::{EffectPlan, IntegratorKind};
 use crate::scene::{Geometry, Light, Material, MaterialId, Rgb, Scene};
 use crate::shapes::{Cuboid, Plane, Shape, Sphere, Triangle};
+use crate::texture::shade::{TextureData, TriFrame};
 use gridrt_bbox::Vec3;
 
 /// The largest image, in pixels, the renderer accepts (8192 × 8192).
@@ -173,6 +174,7 @@ pub(crate) fn prepare(scene: &Scene, set: Option<SphereSet>) -> Result<Prepared,
     let camera = CameraModel::new(&scene.camera, s.width, s.height)?;
     let mut plan = plan;
     let mut data = shading_data(scene, &plan);
+    data.tex = texture_data(scene, camera.footprint());
     let prims = convert(
         scene,
         set,
@@ -241,6 +243,10 @@ fn validate(scene: &Scene, set: Option<&SphereSet>) -> Result<(usize, bool), Sce
     for (i, l) in scene.lights.iter().enumerate() {
         check_light(i, l)?;
     }
+    scene
+        .textures
+        .check(scene.materials.len())
+        .map_err(|reason| SceneError::BadTextures { reason })?;
 
     // Validate objects and count primitives.
     let mut all_spheres = true;
@@ -296,7 +302,12 @@ fn validate(scene: &Scene, set: Option<&SphereSet>) -> Result<(usize, bool), Sce
             Geometry::Mesh(m) => {
                 let nv = m.positions.len();
                 let name = || m.name.clone();
-                for (attribute, n) in [("normals", m.normals.len()), ("uvs", m.uvs.len())] {
+                let counts = [
+                    ("normals", m.normals.len()),
+                    ("uvs", m.uvs.len()),
+                    ("colors", m.colors.len()),
+                ];
+                for (attribute, n) in counts {
                     if n != 0 && n != nv {
                         return Err(SceneError::MeshAttributeCount {
                             object: i,
@@ -316,6 +327,14 @@ fn validate(scene: &Scene, set: Option<&SphereSet>) -> Result<(usize, bool), Sce
                             vertex: v,
                         });
                     }
+                }
+                if let Some(v) = m.colors.iter().position(|c| !color_ok(*c)) {
+                    return Err(SceneError::MeshNotFinite {
+                        object: i,
+                        mesh: name(),
+                        attribute: "colour (or a negative one)",
+                        vertex: v,
+                    });
                 }
                 for (t, tri) in m.triangles.iter().enumerate() {
                     if let Some(&index) = tri.iter().find(|&&k| k as usize >= nv) {
@@ -466,6 +485,24 @@ fn shading_data(scene: &Scene, plan: &EffectPlan) -> SceneData {
     data
 }
 
+/// The scene's textures as shading reads them.
+fn texture_data(scene: &Scene, footprint: [f32; 2]) -> TextureData {
+    let t = &scene.textures;
+    let maps: Vec<_> = (0..scene.materials.len())
+        .map(|i| t.maps.get(i).filter(|m| m.is_active()).cloned())
+        .collect();
+    let alpha = maps
+        .iter()
+        .flatten()
+        .any(|m| m.alpha_mode != crate::texture::AlphaMode::Opaque);
+    TextureData {
+        list: t.list.clone(),
+        maps,
+        footprint,
+        alpha,
+    }
+}
+
 /// The emitted radiance of a material (zero for non-emitters).
 fn emission(m: &Material) -> Rgb {
     match *m {
@@ -502,6 +539,31 @@ fn add_emitter(data: &mut SceneData, prim: usize, shape: &Shape, material: u32) 
     data.emitters.push(prim, shape, radiance);
 }
 
+/// A mesh's shading data: its normals, and its texture coordinates with
+/// each triangle's texture frame when `uvs`.
+fn mesh_shading(m: &crate::scene::Mesh, uvs: bool) -> MeshShading {
+    let (uv, frames) = if uvs {
+        let frames = m
+            .triangles
+            .iter()
+            .map(|t| {
+                let p = t.map(|k| m.positions[k as usize]);
+                TriFrame::new(p, t.map(|k| m.uvs[k as usize]))
+            })
+            .collect();
+        (m.uvs.clone(), frames)
+    } else {
+        (Vec::new(), Vec::new())
+    };
+    MeshShading {
+        normals: m.normals.clone(),
+        colors: m.colors.clone(),
+        triangles: m.triangles.clone(),
+        uvs: uv,
+        frames,
+    }
+}
+
 /// Fills `data` with the primitives' materials and returns the primitives.
 fn convert(
     scene: &Scene,
@@ -532,7 +594,9 @@ fn convert(
     // in random colours, as `RandomSpheres` makes them) become one material
     // and a colour per primitive, as a `SphereSet`'s: shading then reads
     // one small colour per hit instead of a material id and a material.
-    let recolor = uniform.is_none() && {
+    // Textured materials keep their identity (their maps differ).
+    let textured = data.tex.maps.iter().any(Option::is_some);
+    let recolor = uniform.is_none() && !textured && {
         let key = |m: MaterialId| uncolored(&scene.materials[m as usize]);
         first
             .and_then(key)
@@ -550,10 +614,11 @@ fn convert(
     if set_colors && count > set_len {
         albedos.reserve(count);
     }
-    let smooth = scene
-        .objects
-        .iter()
-        .any(|o| matches!(&o.geometry, Geometry::Mesh(m) if !m.normals.is_empty()));
+    let smooth = textured
+        || scene
+            .objects
+            .iter()
+            .any(|o| matches!(&o.geometry, Geometry::Mesh(m) if !m.normals.is_empty() || !m.colors.is_empty()));
     let mut record = |material: u32, mesh: MeshRef, data: &mut SceneData| {
         if uniform.is_none() {
             per_prim.push(material);
@@ -619,13 +684,11 @@ fn convert(
                 }
                 Geometry::Plane { .. } => {}
                 Geometry::Mesh(m) => {
-                    let mesh_id = if m.normals.is_empty() {
+                    let uvs = textured && !m.uvs.is_empty() && data.tex.of(o.material).is_some();
+                    let mesh_id = if m.normals.is_empty() && m.colors.is_empty() && !uvs {
                         u32::MAX
                     } else {
-                        data.meshes.push(MeshShading {
-                            normals: m.normals.clone(),
-                            triangles: m.triangles.clone(),
-                        });
+                        data.meshes.push(mesh_shading(m, uvs));
                         (data.meshes.len() - 1) as u32
                     };
                     for (t, &[a, b, c]) in m.triangles.iter().enumerate() {

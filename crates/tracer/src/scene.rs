@@ -5,6 +5,7 @@
 //! Colours are linear RGB (`glam::Vec3`, always f32, whatever `Real` is).
 
 use crate::sampling::{Filter, SamplerKind};
+use crate::texture::Textures;
 use gridrt_bbox::{Real, Vec3};
 
 /// A linear-RGB colour (always f32).
@@ -26,6 +27,8 @@ pub struct Scene {
     pub lights: Vec<Light>,
     /// Geometry, each with a material.
     pub objects: Vec<Object>,
+    /// Textures and the maps that bind them to materials (empty: none).
+    pub textures: Textures,
 }
 
 /// Render settings.
@@ -168,8 +171,15 @@ pub struct Mesh {
     pub positions: Vec<Vec3>,
     /// Per-vertex normals for smooth shading: empty, or one per position.
     pub normals: Vec<Vec3>,
-    /// Per-vertex texture coordinates: empty, or one per position.
+    /// Per-vertex texture coordinates: empty, or one per position. As in
+    /// glTF, `(0, 0)` is the top-left corner of an image and `v` grows
+    /// downwards (loaders of OBJ and PLY files flip their `v`).
     pub uvs: Vec<glam::Vec2>,
+    /// Per-vertex linear-RGB colours (PLY `red`, `green`, `blue`): empty,
+    /// or one per position. Interpolated over each triangle, they replace
+    /// the albedo of a Matte, Phong or Reflective material (a base-colour
+    /// map then multiplies them).
+    pub colors: Vec<Rgb>,
     /// Triangles as indices into `positions` (counter-clockwise = front).
     pub triangles: Vec<[u32; 3]>,
 }

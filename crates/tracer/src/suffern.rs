@@ -333,6 +333,7 @@ pub fn scene_with_seed(n: usize, seed: u64) -> Scene {
         });
     }
     Scene {
+        textures: Default::default(),
         camera: camera(),
         settings: Settings {
             width: RESOLUTION,

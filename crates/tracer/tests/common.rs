@@ -48,6 +48,7 @@ pub fn render(scene: &Scene) -> (Framebuffer, RenderStats) {
 /// the camera at `eye` looking at the origin (up +y) with a 40° field.
 pub fn empty_scene(w: u32, h: u32, eye: Vec3) -> Scene {
     Scene {
+        textures: Default::default(),
         camera: Camera {
             eye,
             look_at: Vec3::ZERO,

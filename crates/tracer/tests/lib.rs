@@ -20,5 +20,6 @@ mod random_closed;
 mod rows;
 mod shading_normals;
 mod suffern;
+mod textures;
 mod ties;
 mod watertight;

@@ -10,6 +10,8 @@
 
 use super::base64;
 use super::gltf_graph;
+use super::gltf_textures;
+use super::texture_load::TextureLoader;
 use super::{check_normals, to_vec3, ModelCamera, ModelMesh, NamedMaterial, Xform};
 use crate::error::{Error, Result};
 use crate::model::Model;
@@ -43,25 +45,21 @@ pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) ->
     let doc = &gltf.document;
     let buffers = load_buffers(path, real, sandbox, doc, gltf.blob.clone())?;
 
-    let mut warnings = Vec::new();
-    let materials = doc
-        .materials()
-        .map(|m| {
-            let name = m.name().map_or_else(
-                || format!("material {}", m.index().unwrap_or(0)),
-                str::to_string,
-            );
-            NamedMaterial {
-                material: pbr_material(&m, &name, &mut warnings),
-                name,
-            }
-        })
-        .collect();
-    if doc.images().next().is_some() {
-        warnings.push(format!(
-            "{}: textures are ignored; materials use their constant factors",
-            path.display()
-        ));
+    let warnings = Vec::new();
+    let mut textures = TextureLoader::new(path, real, sandbox);
+    let mut materials = Vec::new();
+    for m in doc.materials() {
+        let name = m.name().map_or_else(
+            || format!("material {}", m.index().unwrap_or(0)),
+            str::to_string,
+        );
+        let maps = gltf_textures::maps(&m, &name, &mut textures, path, &buffers)?;
+        let material = pbr_material(&m);
+        materials.push(NamedMaterial {
+            name,
+            material,
+            maps,
+        });
     }
 
     let mut loader = Loader {
@@ -118,6 +116,7 @@ pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) ->
         path: path.to_path_buf(),
         meshes: loader.meshes,
         materials,
+        textures: textures.list,
         cameras: loader.cameras,
         lights: loader.lights,
         warnings: loader.warnings,
@@ -492,7 +491,14 @@ impl Loader<'_> {
                 .iter()
                 .map(|p| Vec3::new(p[0] as Real, p[1] as Real, p[2] as Real))
                 .collect(),
-            uvs: Vec::new(),
+            uvs: gltf_textures::primitive_uvs(
+                prim,
+                n,
+                self.buffers,
+                (self.path, place),
+                &mut self.warnings,
+            ),
+            colors: Vec::new(),
             triangles,
         };
         let xf = Xform::new(world).map_err(|e| err(format!("node transform: {e}")))?;
@@ -644,7 +650,7 @@ fn component_size(t: DataType) -> usize {
 
 /// The byte range of an accessor's elements in a buffer view, checked:
 /// `(buffer data, start, stride)`.
-fn element_slice<'b>(
+pub(super) fn element_slice<'b>(
     view: &gltf::buffer::View,
     offset: usize,
     count: usize,
@@ -800,13 +806,14 @@ fn read_indices(
 /// Maps a glTF metallic-roughness material to ours:
 ///
 /// - emissive factor non-zero without an emissive texture → Emissive;
-/// - `alphaMode: BLEND` with base alpha < 1 → Dielectric (ior 1.5, tinted by
-///   the base colour);
 /// - metallic ≥ 0.5 and roughness ≤ 0.3 → Reflective (the mirror reflects
 ///   the base colour, kr = metallic · (1 − roughness));
 /// - roughness < 0.6 → Phong with exponent 2/α² − 2, α = roughness²;
 /// - otherwise Matte with the base colour.
-fn pbr_material(m: &gltf::Material, name: &str, warnings: &mut Vec<String>) -> Material {
+///
+/// Textures, emission maps and alpha modes are the material's maps
+/// (`gltf_textures::maps`).
+fn pbr_material(m: &gltf::Material) -> Material {
     let pbr = m.pbr_metallic_roughness();
     let finite01 = |x: f32| {
         if x.is_finite() {
@@ -817,7 +824,6 @@ fn pbr_material(m: &gltf::Material, name: &str, warnings: &mut Vec<String>) -> M
     };
     let bc = pbr.base_color_factor();
     let base = Rgb::new(finite01(bc[0]), finite01(bc[1]), finite01(bc[2]));
-    let alpha = finite01(bc[3]);
     let metallic = finite01(pbr.metallic_factor());
     let roughness = finite01(pbr.roughness_factor());
     let e = m
@@ -825,21 +831,12 @@ fn pbr_material(m: &gltf::Material, name: &str, warnings: &mut Vec<String>) -> M
         .map(|x| if x.is_finite() { x.max(0.0) } else { 0.0 });
     let emissive = Rgb::from_array(e);
     let max_e = emissive.max_element();
-    if max_e > 0.0 {
-        if m.emissive_texture().is_none() {
-            return Material::Emissive {
-                color: emissive / max_e,
-                strength: max_e,
-            };
-        }
-        warnings.push(format!(
-            "material \"{name}\": emission comes from a texture, which is ignored"
-        ));
-    }
-    if m.alpha_mode() == gltf::material::AlphaMode::Blend && alpha < 1.0 {
-        return Material::Dielectric {
-            ior: 1.5,
-            tint: base,
+    // An emissive texture is a map (the surface reflects too); alpha below
+    // 1 is the material's alpha mode (cut-outs or blending).
+    if max_e > 0.0 && m.emissive_texture().is_none() {
+        return Material::Emissive {
+            color: emissive / max_e,
+            strength: max_e,
         };
     }
     let alpha_r = (roughness * roughness).max(1e-3);

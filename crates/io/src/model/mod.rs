@@ -6,9 +6,12 @@
 pub(crate) mod base64;
 mod gltf;
 mod gltf_graph;
+mod gltf_textures;
 mod normals;
 mod obj;
+mod obj_textures;
 mod ply;
+pub(crate) mod texture_load;
 
 pub(crate) use self::gltf::SPOT_WARNING;
 pub use self::normals::{Crease, Normals, DEFAULT_CREASE_DEG};
@@ -16,7 +19,7 @@ use crate::error::{Error, Result};
 use crate::sandbox::Sandbox;
 use glam::{DMat3, DMat4, DVec3};
 use gridrt_bbox::{Aabb, Real, Vec3};
-use gridrt_tracer::{Camera, Light, Material, Mesh, Rgb};
+use gridrt_tracer::{Camera, Light, Material, MaterialMaps, Mesh, Rgb, Texture};
 use std::path::{Path, PathBuf};
 
 /// The kinds of model file gridrt reads.
@@ -59,6 +62,9 @@ pub struct Model {
     pub cameras: Vec<ModelCamera>,
     /// The file's lights (glTF `KHR_lights_punctual`; spot lights become point lights).
     pub lights: Vec<Light>,
+    /// The file's texture images, decoded; [`NamedMaterial::maps`] refer
+    /// to them by index.
+    pub textures: Vec<Texture>,
     /// Things skipped or approximated while reading (points and lines,
     /// textures, a missing material library). Not errors.
     pub warnings: Vec<String>,
@@ -99,6 +105,8 @@ pub struct NamedMaterial {
     pub name: String,
     /// The converted material.
     pub material: Material,
+    /// Its textures (indices into [`Model::textures`]) and alpha mode.
+    pub maps: MaterialMaps,
 }
 
 /// A camera found in a model file.
@@ -347,6 +355,7 @@ mod tests {
             positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
             normals: vec![Vec3::Z; 3],
             uvs: vec![],
+            colors: vec![],
             triangles: vec![[0, 1, 2]],
         }
     }
@@ -383,6 +392,7 @@ mod tests {
             materials: vec![],
             cameras: vec![],
             lights: vec![],
+            textures: Vec::new(),
             warnings: vec![],
         };
         model

@@ -142,6 +142,7 @@ pub(crate) fn smooth(mesh: &mut Mesh, crease_deg: f64) {
     let mut normals: Vec<Option<Vec3>> = vec![None; p.len()];
     let mut copies: HashMap<(u32, [u64; 3]), u32> = HashMap::new();
     let has_uvs = mesh.uvs.len() == p.len();
+    let has_colors = mesh.colors.len() == p.len();
     for (f, t) in mesh.triangles.iter_mut().enumerate() {
         for (k, v) in t.iter_mut().enumerate() {
             // A corner whose faces cancel out, or a degenerate face's
@@ -160,6 +161,9 @@ pub(crate) fn smooth(mesh: &mut Mesh, crease_deg: f64) {
                         mesh.positions.push(mesh.positions[*v as usize]);
                         if has_uvs {
                             mesh.uvs.push(mesh.uvs[*v as usize]);
+                        }
+                        if has_colors {
+                            mesh.colors.push(mesh.colors[*v as usize]);
                         }
                         normals.push(Some(n));
                         (mesh.positions.len() - 1) as u32
@@ -205,6 +209,7 @@ mod tests {
             positions,
             normals: vec![],
             uvs: vec![],
+            colors: vec![],
             triangles,
         }
     }
@@ -252,6 +257,7 @@ mod tests {
             ],
             normals: vec![],
             uvs: vec![],
+            colors: vec![],
             triangles: vec![[0, 2, 1], [3, 4, 5]],
         };
         smooth(&mut m, 60.0);

@@ -6,6 +6,8 @@
 //! non-finite numbers, face indices out of range (relative indices
 //! included). Only then does tobj read it, triangulating polygons as fans.
 
+use super::obj_textures;
+use super::texture_load::TextureLoader;
 use super::{check_normals, default_material, ModelMesh, NamedMaterial};
 use crate::error::{Error, Result};
 use crate::model::Model;
@@ -110,17 +112,30 @@ pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) ->
             "the file has no triangles: it needs `f` lines with at least three vertices",
         ));
     }
-    let materials = materials
-        .iter()
-        .map(|m| NamedMaterial {
+    let mut textures = TextureLoader::new(path, real, sandbox);
+    let mut named = Vec::with_capacity(materials.len());
+    for m in &materials {
+        let maps = obj_textures::maps(m, &mut textures)?;
+        // An emission or opacity map makes the colour and `d` factors of
+        // the maps, not an emitter or glass.
+        let mut plain = m.clone();
+        if maps.emissive.is_some() {
+            plain.emissive = None;
+        }
+        if maps.opacity.is_some() {
+            plain.dissolve = None;
+        }
+        named.push(NamedMaterial {
             name: m.name.clone(),
-            material: mtl_material(m),
-        })
-        .collect();
+            material: mtl_material(&plain),
+            maps,
+        });
+    }
     Ok(Model {
         path: path.to_path_buf(),
         meshes,
-        materials,
+        materials: named,
+        textures: textures.list,
         cameras: Vec::new(),
         lights: Vec::new(),
         warnings,
@@ -185,7 +200,8 @@ fn convert_mesh(
     let uvs = if tm.texcoords.len() == 2 * n {
         tm.texcoords
             .chunks_exact(2)
-            .map(|c| glam::Vec2::new(c[0] as f32, c[1] as f32))
+            // OBJ's v grows upwards; texture space's downwards.
+            .map(|c| glam::Vec2::new(c[0] as f32, 1.0 - c[1] as f32))
             .collect()
     } else {
         Vec::new()
@@ -200,6 +216,7 @@ fn convert_mesh(
         positions,
         normals,
         uvs,
+        colors: Vec::new(),
         triangles,
     };
     check_normals(&mut mesh, warnings);
@@ -424,12 +441,19 @@ fn normalize_mtl(path: &Path, text: &str) -> Result<String> {
                     line.trim()
                 )));
             }
-            // Textures are not used; their statements (tobj rejects a
-            // bare `map_Kd`, which would lose every material) are dropped.
+            // The maps gridrt uses stay when they name a file; others,
+            // and bare ones (tobj rejects a bare `map_Kd`, which would lose
+            // every material), are dropped.
             k if k.starts_with("map_")
                 || matches!(k, "bump" | "disp" | "decal" | "refl" | "norm") =>
             {
-                continue;
+                let used = matches!(
+                    k,
+                    "map_Kd" | "map_Ke" | "map_d" | "map_Bump" | "map_bump" | "bump" | "norm"
+                );
+                if !used || words.next().is_none() {
+                    continue;
+                }
             }
             "newmtl" if line.trim().len() <= "newmtl".len() => {
                 return Err(err("`newmtl` needs a material name".to_string()));

@@ -29,6 +29,8 @@ struct PlyVertex {
     p: [Option<f64>; 3],
     n: [Option<f64>; 3],
     uv: [Option<f64>; 2],
+    /// Colour in [0, 1], as stored (sRGB-encoded).
+    c: [Option<f64>; 3],
 }
 
 impl PropertyAccess for PlyVertex {
@@ -46,6 +48,32 @@ impl PropertyAccess for PlyVertex {
             "nz" => &mut self.n[2],
             "u" | "s" | "texture_u" | "texture_s" => &mut self.uv[0],
             "v" | "t" | "texture_v" | "texture_t" => &mut self.uv[1],
+            "red" | "green" | "blue" | "diffuse_red" | "diffuse_green" | "diffuse_blue" => {
+                let k = match name.trim_start_matches("diffuse_") {
+                    "red" => 0,
+                    "green" => 1,
+                    _ => 2,
+                };
+                // Integers span their type's range; floats are in [0, 1].
+                let x = match property {
+                    Property::UChar(v) => Some(f64::from(v) / 255.0),
+                    Property::UShort(v) => Some(f64::from(v) / 65535.0),
+                    Property::Float(v) => Some(f64::from(v)),
+                    Property::Double(v) => Some(v),
+                    ref other => scalar(other).map(|x| x / 255.0),
+                };
+                return match x {
+                    Some(x) => {
+                        self.c[k] = Some(if x.is_finite() {
+                            x.clamp(0.0, 1.0)
+                        } else {
+                            0.0
+                        });
+                        PropertyAccessResult::Set
+                    }
+                    None => PropertyAccessResult::UnsupportedType,
+                };
+            }
             _ => return PropertyAccessResult::Ignored,
         };
         match scalar(&property) {
@@ -220,16 +248,6 @@ pub(crate) fn load(path: &Path, bytes: &[u8], sandbox: &Sandbox) -> Result<Model
             .limits
             .primitives_error(path, "element `face`", faces_declared));
     }
-    let has = |name: &str| vdef.properties.contains_key(name);
-    if ["red", "green", "blue", "diffuse_red"]
-        .iter()
-        .any(|c| has(c))
-    {
-        warnings.push(format!(
-            "{}: per-vertex colours are not rendered; the mesh takes its material's colour",
-            path.display()
-        ));
-    }
 
     let mut vertices = Vec::new();
     let mut faces = Vec::new();
@@ -263,6 +281,7 @@ pub(crate) fn load(path: &Path, bytes: &[u8], sandbox: &Sandbox) -> Result<Model
         materials: Vec::new(),
         cameras: Vec::new(),
         lights: Vec::new(),
+        textures: Vec::new(),
         warnings,
     })
 }
@@ -297,10 +316,26 @@ fn build_mesh(
             _ => None,
         })
         .collect();
+    // Vertex colours are sRGB-encoded, as images are: decoded to linear.
+    let colors: Vec<gridrt_tracer::Rgb> = vertices
+        .iter()
+        .map_while(|v| match v.c {
+            [Some(r), Some(g), Some(b)] => Some(gridrt_tracer::Rgb::from_array(
+                [r, g, b].map(|x| gridrt_tracer::texture::srgb_to_linear(x as f32)),
+            )),
+            _ => None,
+        })
+        .collect();
+    let colors = if colors.len() == vertices.len() {
+        colors
+    } else {
+        Vec::new()
+    };
     let uvs: Vec<glam::Vec2> = vertices
         .iter()
         .map_while(|v| match v.uv {
-            [Some(u), Some(w)] => Some(glam::Vec2::new(u as f32, w as f32)),
+            // PLY's v grows upwards; texture space's downwards.
+            [Some(u), Some(w)] => Some(glam::Vec2::new(u as f32, 1.0 - w as f32)),
             _ => None,
         })
         .collect();
@@ -358,6 +393,7 @@ fn build_mesh(
         positions,
         normals,
         uvs,
+        colors,
         triangles,
     };
     check_normals(&mut mesh, warnings);
@@ -385,7 +421,7 @@ mod tests {
         let mesh = &m.meshes[0].mesh;
         assert_eq!(mesh.triangles, vec![[0, 1, 2], [0, 2, 3]]);
         assert_eq!(mesh.normals, vec![Vec3::Z; 4]);
-        assert_eq!(mesh.uvs[2], glam::Vec2::new(1.0, 1.0));
+        assert_eq!(mesh.uvs[2], glam::Vec2::new(1.0, 0.0));
         assert_eq!(mesh.name, "m.ply");
         assert!(m.warnings.is_empty(), "{:?}", m.warnings);
     }
@@ -443,11 +479,9 @@ mod tests {
         assert_eq!(le.meshes[0].mesh, be.meshes[0].mesh);
         assert_eq!(le.meshes[0].mesh.triangles, vec![[0, 1, 2]]);
         assert_eq!(le.meshes[0].mesh.positions[2], Vec3::Y);
-        assert!(
-            le.warnings[0].contains("per-vertex colours"),
-            "{:?}",
-            le.warnings
-        );
+        // The binary seeds' vertex colours are read (and sRGB-decoded).
+        assert_eq!(le.meshes[0].mesh.colors.len(), 3);
+        assert!(le.warnings.is_empty(), "{:?}", le.warnings);
     }
 
     proptest::proptest! {
