@@ -78,6 +78,7 @@ mod rays;
 mod ron_text;
 mod sandbox;
 mod scene;
+mod scene_lights;
 mod schema;
 mod schema_settings;
 

@@ -75,6 +75,7 @@ mod float;
 mod framebuffer;
 pub mod hard_meshes;
 mod integrator;
+mod lights;
 pub mod offset_scenes;
 pub mod optics;
 mod path;
@@ -101,8 +102,8 @@ pub use render::{render, AccelKind, RenderOptions, RenderStats, Renderer};
 pub use robustness::{RayOffset, TriangleTest};
 pub use sampling::{Filter, SamplerKind};
 pub use scene::{
-    Camera, Geometry, IntegratorChoice, Light, Material, MaterialId, Mesh, Object, Projection, Rgb,
-    Scene, Settings,
+    Camera, EnvImage, Geometry, IntegratorChoice, Light, Material, MaterialId, Mesh, Object,
+    Projection, Rgb, Scene, Settings,
 };
 pub use shapes::{Cuboid, MtTriangle, Plane, Shape, Sphere, Triangle, MT_EPSILON};
 
