@@ -132,6 +132,12 @@ pub fn write_scene(scene: &Scene, shift: f64, dir: &Path, stem: &str) -> Res<Pat
                 dir3(direction),
                 rgb(color)
             ),
+            Light::Spot { .. }
+            | Light::Rect { .. }
+            | Light::Disk { .. }
+            | Light::Environment { .. } => {
+                return Err("the precision study writes ambient, point and directional lights only".into());
+            }
         };
     }
     t += "    ],\n    objects: [\n";

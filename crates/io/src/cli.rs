@@ -824,15 +824,20 @@ fn info(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
         );
     }
     t += &format!("materials   {}\n", s.materials.len());
-    let (mut amb, mut pt, mut dir) = (0, 0, 0);
+    let [mut amb, mut pt, mut dir, mut spot, mut area, mut env] = [0; 6];
     for l in &s.lights {
         match l {
             Light::Ambient { .. } => amb += 1,
             Light::Point { .. } => pt += 1,
             Light::Directional { .. } => dir += 1,
+            Light::Spot { .. } => spot += 1,
+            Light::Rect { .. } | Light::Disk { .. } => area += 1,
+            Light::Environment { .. } => env += 1,
         }
     }
-    t += &format!("lights      {amb} ambient, {pt} point, {dir} directional\n");
+    t += &format!(
+        "lights      {amb} ambient, {pt} point, {dir} directional, {spot} spot, {area} area, {env} environment\n"
+    );
     let renderer = Renderer::new(s, &a.accel.options(None)).map_err(|e| Error::Render {
         path: loaded.source.clone(),
         msg: e.to_string(),

@@ -79,6 +79,7 @@ mod ron_text;
 mod sandbox;
 mod scene;
 mod scene_transform;
+mod scene_lights;
 mod schema;
 mod schema_settings;
 mod schema_textures;

@@ -7,6 +7,7 @@ use crate::model::{self, to_dvec3, to_vec3, Model, ModelFormat};
 use crate::model_scene::{frame, scene_from_model};
 use crate::ron_text::{line_col, ron_error, Outline};
 use crate::sandbox::Sandbox;
+use crate::scene_lights;
 use crate::scene_transform::transform_matrix;
 use crate::schema::{
     self, CameraDesc, LightDesc, ObjectDesc, ProjectionDesc, SceneFile, TransformDesc,
@@ -175,7 +176,7 @@ struct Builder<'a> {
     warnings: Vec<String>,
 }
 
-fn v3(v: [f64; 3]) -> Vec3 {
+pub(crate) fn v3(v: [f64; 3]) -> Vec3 {
     Vec3::new(v[0] as Real, v[1] as Real, v[2] as Real)
 }
 
@@ -200,7 +201,7 @@ pub(crate) fn unit(v: [f64; 3]) -> DVec3 {
     }
 }
 
-fn f32s(x: f64) -> f32 {
+pub(crate) fn f32s(x: f64) -> f32 {
     x as f32
 }
 
@@ -324,7 +325,20 @@ impl<'a> Builder<'a> {
                 .max_depth_given
                 .map_or(Settings::default().path_max_depth, |d| d.0),
         };
-        let lights = file.lights.iter().map(light).collect::<Vec<_>>();
+        let mut lights = file
+            .lights
+            .iter()
+            .map(scene_lights::light)
+            .collect::<Vec<_>>();
+        for (i, d) in file.lights.iter().enumerate() {
+            if let LightDesc::Environment { image: Some(f), .. } = d {
+                let place = self.place(Some(&format!("\"{f}\"")), &format!("lights[{i}]"));
+                let img = scene_lights::env_image(self.path, self.real, self.sandbox, place, f)?;
+                if let Light::Environment { image, .. } = &mut lights[i] {
+                    *image = Some(std::sync::Arc::new(img));
+                }
+            }
+        }
         if lights.is_empty() {
             self.warnings.push(format!(
                 "{}: the scene has no lights: only emissive objects will light it (path tracing) or show (Whitted)",
@@ -733,50 +747,8 @@ impl<'a> Builder<'a> {
                 material: id,
             });
         }
-        // A scene uses the meshes only, not the file's lights.
-        self.warnings.extend(
-            model
-                .warnings
-                .drain(..)
-                .filter(|w| !w.contains(model::SPOT_WARNING)),
-        );
+        self.warnings.append(&mut model.warnings);
         Ok(())
-    }
-}
-
-fn light(d: &LightDesc) -> Light {
-    match d {
-        LightDesc::Ambient { color, intensity } => Light::Ambient {
-            color: model::rgb(color.0),
-            intensity: f32s(intensity.0),
-        },
-        LightDesc::Point {
-            position,
-            color,
-            intensity,
-            inverse_square,
-            shadows,
-        } => Light::Point {
-            position: v3(position.0),
-            color: model::rgb(color.0),
-            intensity: f32s(intensity.0),
-            inverse_square: *inverse_square,
-            shadows: *shadows,
-        },
-        LightDesc::Directional {
-            direction,
-            color,
-            intensity,
-            shadows,
-        } => Light::Directional {
-            // Kept as written when it fits (the tracer normalises it).
-            direction: Some(v3(direction.0))
-                .filter(|d| d.is_finite())
-                .unwrap_or_else(|| to_vec3(unit(direction.0))),
-            color: model::rgb(color.0),
-            intensity: f32s(intensity.0),
-            shadows: *shadows,
-        },
     }
 }
 

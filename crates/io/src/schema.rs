@@ -234,6 +234,24 @@ impl TryFrom<f64> for Fov {
     }
 }
 
+/// A cone half-angle in degrees, in `[0, 180]`.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(try_from = "f64")]
+pub(crate) struct Angle(pub f64);
+
+impl TryFrom<f64> for Angle {
+    type Error = String;
+    fn try_from(x: f64) -> Result<Self, String> {
+        if x.is_finite() && (0.0..=180.0).contains(&x) {
+            Ok(Self(x))
+        } else {
+            Err(format!(
+                "angle {x} is out of range: use degrees from 0 to 180"
+            ))
+        }
+    }
+}
+
 /// An index of refraction, finite and > 0.
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
 #[serde(try_from = "f64")]
@@ -518,6 +536,64 @@ pub(crate) enum LightDesc {
         #[serde(default = "yes")]
         shadows: bool,
     },
+    /// `Spot(position: (x, y, z), direction: (x, y, z), color, intensity: 1,
+    /// outer: 30, inner: outer − 5, inverse_square: false, shadows: true)`;
+    /// `direction` is the cone's axis, from the light; angles are
+    /// half-angles in degrees.
+    Spot {
+        position: V3,
+        direction: Dir,
+        #[serde(default = "white")]
+        color: Color,
+        #[serde(default = "one_nn")]
+        intensity: NonNeg,
+        #[serde(default = "thirty")]
+        outer: Angle,
+        #[serde(default)]
+        inner: Option<Angle>,
+        #[serde(default)]
+        inverse_square: bool,
+        #[serde(default = "yes")]
+        shadows: bool,
+    },
+    /// `Rect(corner: (x, y, z), edge_u: (x, y, z), edge_v: (x, y, z), color,
+    /// intensity: 1)`: an area light emitting from the side `edge_u ×
+    /// edge_v` points to.
+    Rect {
+        corner: V3,
+        edge_u: Dir,
+        edge_v: Dir,
+        #[serde(default = "white")]
+        color: Color,
+        #[serde(default = "one_nn")]
+        intensity: NonNeg,
+    },
+    /// `Disk(center: (x, y, z), normal: (x, y, z), radius: 1, color,
+    /// intensity: 1)`: an area light emitting to the side `normal` points to.
+    Disk {
+        center: V3,
+        normal: Dir,
+        radius: Positive,
+        #[serde(default = "white")]
+        color: Color,
+        #[serde(default = "one_nn")]
+        intensity: NonNeg,
+    },
+    /// `Environment(color: (1, 1, 1), intensity: 1, image: "sky.hdr")`:
+    /// light from every direction, constant or from an equirectangular
+    /// Radiance `.hdr` or OpenEXR `.exr` image.
+    Environment {
+        #[serde(default = "white")]
+        color: Color,
+        #[serde(default = "one_nn")]
+        intensity: NonNeg,
+        #[serde(default)]
+        image: Option<String>,
+    },
+}
+
+fn thirty() -> Angle {
+    Angle(30.0)
 }
 
 /// Objects. Variant names are PascalCase; the snake_case spelling

@@ -137,7 +137,7 @@ fn render_a_fixture_scene_and_a_model_with_each_accelerator() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
         stderr(&o).contains("warning: "),
-        "points and spot warnings expected"
+        "a points-primitive warning expected"
     );
 }
 
@@ -499,7 +499,7 @@ fn camera_flag_picks_a_gltf_camera_by_name() {
     };
     let o = run(&["--camera", "camera 0"]);
     assert!(o.status.success(), "{}", stderr(&o));
-    // The model's own warnings (a points primitive, a spot light) come
+    // The model's own warnings (a points primitive) come
     // first; the error is the last line.
     let o = run(&["--camera", "top"]);
     assert_eq!(o.status.code(), Some(1));

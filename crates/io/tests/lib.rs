@@ -8,6 +8,7 @@
 mod bad_inputs;
 mod cli;
 mod docs;
+mod environment;
 mod farm;
 mod fixture_scenes;
 mod full_precision;

@@ -77,14 +77,14 @@ fn gltf_hierarchy_composes_node_transforms() {
     assert!(close(tris[24][1], Vec3::new(-1.0, 0.0, 0.0)));
     assert_box(bounds_of(&m, 25..27), [0.0, 0.0, -2.0], [1.0, 1.0, -2.0]);
     assert_box(bounds_of(&m, 27..28), [0.0, 0.0, 2.0], [1.0, 1.0, 2.0]);
-    // Points primitive skipped, spot light approximated: both reported.
+    // Points primitive skipped and reported; the spot light is a spot.
     assert!(
         m.warnings.iter().any(|w| w.contains("Points")),
         "{:?}",
         m.warnings
     );
     assert!(
-        m.warnings.iter().any(|w| w.contains("spot")),
+        !m.warnings.iter().any(|w| w.contains("spot")),
         "{:?}",
         m.warnings
     );
@@ -157,9 +157,25 @@ fn gltf_materials_cameras_and_lights() {
     assert!(
         matches!(m.lights[1], Light::Point { position, inverse_square: true, .. } if close(position, Vec3::new(2.0, 3.0, 2.0)))
     );
-    assert!(
-        matches!(m.lights[2], Light::Point { position, .. } if close(position, Vec3::new(-2.0, 3.0, 2.0)))
-    );
+    // KHR_lights_punctual spot: outerConeAngle 0.6 rad, innerConeAngle
+    // absent (0), shining along the node's −z.
+    match m.lights[2] {
+        Light::Spot {
+            position,
+            direction,
+            inner_deg,
+            outer_deg,
+            inverse_square,
+            ..
+        } => {
+            assert!(close(position, Vec3::new(-2.0, 3.0, 2.0)));
+            assert!(close(direction, Vec3::NEG_Z));
+            assert_eq!(inner_deg, 0.0);
+            assert!((outer_deg - 0.6f32.to_degrees()).abs() < 1e-4);
+            assert!(inverse_square);
+        }
+        ref other => panic!("{other:?}"),
+    }
 }
 
 #[test]

@@ -28,7 +28,8 @@ pub enum Aov {
     Depth,
     /// World-space position of the first hit (0 where the ray escapes).
     Position,
-    /// Index of the primitive hit first; planes follow the primitives;
+    /// Index of the primitive hit first; planes follow the primitives,
+    /// then rectangle and disk lights;
     /// −1 where the ray escapes.
     PrimId,
     /// Index of the first hit's material in the scene; −1 where the ray
@@ -178,6 +179,10 @@ fn pixel<A>(
                 Some(Found::Prim(h)) => h.prim as f32,
                 Some(Found::Plane { index, .. }) => {
                     (tr.accel.primitives().len() + index as usize) as f32
+                }
+                Some(Found::Area { index, .. }) => {
+                    let planes = tr.data.planes.len();
+                    (tr.accel.primitives().len() + planes + index as usize) as f32
                 }
                 None => -1.0,
             }),

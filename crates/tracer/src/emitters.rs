@@ -1,12 +1,13 @@
 //! Area lights: the emitting primitives of a scene (triangles of emissive
-//! meshes, emissive spheres), chosen in proportion to their power and
-//! sampled by area for next-event estimation.
+//! meshes, emissive spheres) and the rectangle and disk lights, chosen in
+//! proportion to their power and sampled by area for next-event estimation
+//! (and for the soft shadows of the Whitted tracer).
 //!
 //! Emission is one-sided, on the front face, as in pbrt and Mitsuba: a
 //! triangle's front is the side its counter-clockwise winding faces (the
 //! direction of `(p1 − p0) × (p2 − p0)`), a sphere's is its outside.
 
-use crate::sampling::maps::{uniform_sphere, uniform_triangle};
+use crate::sampling::maps::{concentric_disk, uniform_sphere, uniform_triangle};
 use crate::scene::Rgb;
 use gridrt_bbox::{Real, Vec3};
 
@@ -26,6 +27,23 @@ pub(crate) enum EmitterShape {
         center: Vec3,
         radius: Real,
     },
+    /// A parallelogram `corner + a·u + b·v`, `a, b` in `[0, 1]`.
+    Rect {
+        corner: Vec3,
+        u: Vec3,
+        v: Vec3,
+        /// Unit normal of the front face.
+        n: Vec3,
+    },
+    /// A disk in the plane spanned by the unit tangents `x`, `y`.
+    Disk {
+        center: Vec3,
+        radius: Real,
+        x: Vec3,
+        y: Vec3,
+        /// Unit normal of the front face.
+        n: Vec3,
+    },
 }
 
 impl EmitterShape {
@@ -34,6 +52,8 @@ impl EmitterShape {
         match *self {
             EmitterShape::Triangle { e1, e2, .. } => 0.5 * e1.cross(e2).length(),
             EmitterShape::Sphere { radius, .. } => 4.0 * PI * radius * radius,
+            EmitterShape::Rect { u, v, .. } => u.cross(v).length(),
+            EmitterShape::Disk { radius, .. } => PI * radius * radius,
         }
     }
 }
@@ -77,20 +97,37 @@ pub(crate) struct Emitters {
 impl Emitters {
     /// Adds the emitting primitive `prim` (index in the accelerator).
     pub(crate) fn push(&mut self, prim: usize, shape: EmitterShape, radiance: Rgb) {
-        let area = shape.area();
-        if !(area > 0.0) || radiance == Rgb::ZERO {
+        let Some(i) = self.push_shape(shape, radiance) else {
             return;
-        }
+        };
         if self.of_prim.len() <= prim {
             self.of_prim.resize(prim + 1, u32::MAX);
         }
-        self.of_prim[prim] = self.list.len() as u32;
+        self.of_prim[prim] = i;
+    }
+
+    /// Adds an emitter that is not an accelerator primitive (a rectangle or
+    /// disk light) and returns its index in `list`; `None` when it has no
+    /// area or no radiance.
+    pub(crate) fn push_shape(&mut self, shape: EmitterShape, radiance: Rgb) -> Option<u32> {
+        let area = shape.area();
+        if !(area > 0.0) || !area.is_finite() || radiance == Rgb::ZERO {
+            return None;
+        }
+        let i = self.list.len() as u32;
         self.list.push(Emitter {
             shape,
             radiance,
             inv_area: 1.0 / area,
             pmf: 0.0,
         });
+        Some(i)
+    }
+
+    /// Emitter `i` of `list`.
+    #[inline]
+    pub(crate) fn get(&self, i: u32) -> Option<&Emitter> {
+        self.list.get(i as usize)
     }
 
     /// Finishes the table once every emitter is in: the choice
@@ -147,6 +184,17 @@ impl Emitters {
             EmitterShape::Sphere { center, radius } => {
                 let n = uniform_sphere(u2);
                 (center + n * radius, n)
+            }
+            EmitterShape::Rect { corner, u, v, n } => (corner + u * u2.0 + v * u2.1, n),
+            EmitterShape::Disk {
+                center,
+                radius,
+                x,
+                y,
+                n,
+            } => {
+                let (a, b) = concentric_disk(u2);
+                (center + (x * a + y * b) * radius, n)
             }
         };
         let d = q - p;
@@ -244,6 +292,67 @@ mod tests {
         assert!((est - want).abs() < 0.01 * want, "{est} vs {want}");
     }
 
+    /// Irradiance at the origin (normal +y) from `e`, by light sampling on
+    /// an `n × n` stratified grid of sample pairs.
+    fn irradiance(e: &Emitters, n: u32) -> f64 {
+        let mut est = 0.0f64;
+        for i in 0..n {
+            for j in 0..n {
+                let u2 = ((i as Real + 0.5) / n as Real, (j as Real + 0.5) / n as Real);
+                if let Some(s) = e.sample(Vec3::ZERO, 0.5, u2) {
+                    est += crate::float::to_f64(Real::from(s.radiance.x) * s.wi.y / s.pdf);
+                }
+            }
+        }
+        est / f64::from(n * n)
+    }
+
+    #[test]
+    fn a_disk_light_gives_the_closed_form_irradiance() {
+        // A disk of radius r at height h facing down: E = π·L·r²/(r² + h²).
+        let (r, h, l) = (0.5, 1.0, 3.0);
+        let mut e = Emitters::default();
+        let f = crate::sampling::maps::Frame::new(Vec3::NEG_Y);
+        let shape = EmitterShape::Disk {
+            center: Vec3::new(0.0, h, 0.0),
+            radius: r,
+            x: f.x,
+            y: f.y,
+            n: Vec3::NEG_Y,
+        };
+        assert_eq!(e.push_shape(shape, Rgb::splat(l)), Some(0));
+        e.finish(0);
+        let want = std::f64::consts::PI * f64::from(l) * 0.25 / (0.25 + 1.0);
+        let est = irradiance(&e, 300);
+        assert!((est - want).abs() < 2e-3 * want, "{est} vs {want}");
+    }
+
+    #[test]
+    fn a_rect_light_matches_its_two_triangles() {
+        let mut e = Emitters::default();
+        let shape = EmitterShape::Rect {
+            corner: Vec3::new(0.0, 1.0, 0.0),
+            u: Vec3::X,
+            v: Vec3::Z,
+            n: Vec3::NEG_Y,
+        };
+        e.push_shape(shape, Rgb::splat(2.0));
+        e.finish(0);
+        let (a, b) = (irradiance(&e, 300), irradiance(&quad(), 300));
+        assert!((a - b).abs() < 5e-3 * b, "{a} vs {b}");
+        // Nothing from behind, nothing of no area.
+        assert!(e
+            .sample(Vec3::new(0.5, 2.0, 0.5), 0.5, (0.5, 0.5))
+            .is_none());
+        let flat = EmitterShape::Rect {
+            corner: Vec3::ZERO,
+            u: Vec3::X,
+            v: Vec3::X,
+            n: Vec3::Y,
+        };
+        assert_eq!(e.push_shape(flat, Rgb::ONE), None);
+    }
+
     #[test]
     fn emission_is_one_sided() {
         let e = quad();
@@ -264,7 +373,7 @@ mod tests {
         let i = usize::from(0.7 > e.cdf[0]);
         let n = match e.list[i].shape {
             EmitterShape::Triangle { n, .. } => n,
-            EmitterShape::Sphere { .. } => unreachable!(),
+            _ => unreachable!(),
         };
         let pdf = Emitters::pdf(&e.list[i], s.wi, (s.point - p).length(), n);
         assert!((pdf - s.pdf).abs() < 1e-4 * s.pdf);

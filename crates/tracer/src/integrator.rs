@@ -3,6 +3,7 @@
 
 use crate::emitters::Emitters;
 use crate::float::to_f32;
+use crate::lights::{spot_falloff, AreaLight, Environment};
 use crate::optics::{fresnel_dielectric, reflect, refract};
 use crate::plan::RayCounts;
 use crate::robustness::RayOffset;
@@ -59,6 +60,43 @@ pub(crate) enum DirectLight {
         radiance: Rgb,
         shadows: bool,
     },
+    Spot {
+        position: Vec3,
+        /// Unit axis of the cone, from the light.
+        axis: Vec3,
+        radiance: Rgb,
+        cos_inner: Real,
+        cos_outer: Real,
+        inverse_square: bool,
+        shadows: bool,
+    },
+}
+
+impl DirectLight {
+    /// The radiance scale of a point or spot light towards the unit
+    /// direction `wi` (from the shading point to the light): 1 for a point
+    /// light, the cone's falloff for a spot.
+    #[inline]
+    pub(crate) fn cone(&self, wi: Vec3) -> f32 {
+        match *self {
+            DirectLight::Spot {
+                axis,
+                cos_inner,
+                cos_outer,
+                ..
+            } => spot_falloff(-wi.dot(axis), cos_outer, cos_inner),
+            _ => 1.0,
+        }
+    }
+
+    /// The light's radiance scale (zero: the light does nothing).
+    pub(crate) fn radiance(&self) -> Rgb {
+        match *self {
+            DirectLight::Point { radiance, .. }
+            | DirectLight::Directional { radiance, .. }
+            | DirectLight::Spot { radiance, .. } => radiance,
+        }
+    }
 }
 
 /// The material of each accelerator primitive.
@@ -105,9 +143,19 @@ pub(crate) struct SceneData {
     pub ambient: Rgb,
     pub lights: Vec<DirectLight>,
     pub background: Rgb,
+    /// The environment light, which replaces `background` when present.
+    pub env: Option<Environment>,
+    /// Probability that a light sample goes to the environment rather
+    /// than to the area lights (0 without an image environment, 1 without
+    /// area lights).
+    pub env_pick: Real,
     pub max_depth: u32,
-    /// The area lights (path tracing only; empty otherwise).
+    /// The sampled area lights (emissive primitives, rectangles and disks)
+    /// when the plan samples lights; empty otherwise.
     pub emitters: Emitters,
+    /// Rectangle and disk lights: surfaces outside the grid, tested after
+    /// it like the planes (they come after the planes in the tie order).
+    pub area_lights: Vec<AreaLight>,
     /// Longest path of the path tracer, in bounces.
     pub path_depth: u32,
     /// How secondary rays leave surfaces (`RenderOptions::ray_offset`).
@@ -116,11 +164,31 @@ pub(crate) struct SceneData {
     pub tex: TextureData,
 }
 
+impl SceneData {
+    /// Radiance of a ray along `dir` that hits nothing: the environment's,
+    /// else the background.
+    #[inline]
+    pub(crate) fn miss(&self, dir: Vec3) -> Rgb {
+        match &self.env {
+            Some(e) => e.radiance(dir.normalize()),
+            None => self.background,
+        }
+    }
+}
+
 /// What a ray found: a grid primitive or a plane.
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Found {
     Prim(Hit),
-    Plane { index: u32, t: Real },
+    Plane {
+        index: u32,
+        t: Real,
+    },
+    /// A rectangle or disk light.
+    Area {
+        index: u32,
+        t: Real,
+    },
 }
 
 impl Found {
@@ -128,7 +196,7 @@ impl Found {
     fn t(&self) -> Real {
         match *self {
             Found::Prim(h) => h.t,
-            Found::Plane { t, .. } => t,
+            Found::Plane { t, .. } | Found::Area { t, .. } => t,
         }
     }
 }
@@ -226,6 +294,17 @@ where
                 }
             }
         }
+        if !self.data.area_lights.is_empty() {
+            let mut far = best.map_or(t_max, |b| b.t());
+            for (i, l) in self.data.area_lights.iter().enumerate() {
+                if let Some(t) = l.intersect(ray, far) {
+                    if best.is_none() || t < far {
+                        best = Some(Found::Area { index: i as u32, t });
+                        far = t;
+                    }
+                }
+            }
+        }
         best
     }
 
@@ -305,6 +384,11 @@ where
             .planes
             .iter()
             .any(|p| p.intersect(ray, 0.0, t_max).is_some())
+            || self
+                .data
+                .area_lights
+                .iter()
+                .any(|l| l.intersect(ray, t_max).is_some())
     }
 
     /// Starts loading the per-primitive data [`Tracer::shading`] will read
@@ -373,6 +457,18 @@ where
                     emission: Rgb::ZERO,
                 };
                 self.textured(ray, sh, || None)
+            }
+            Found::Area { index, t } => {
+                let l = &self.data.area_lights[index as usize];
+                let sp = l.surface(ray, t);
+                Shading {
+                    t,
+                    sp,
+                    material: l.material,
+                    ns: sp.n,
+                    albedo: None,
+                    emission: Rgb::ZERO,
+                }
             }
         }
     }
@@ -453,15 +549,24 @@ pub(crate) trait Integrator {
 
 /// Suffern's ray casting (`REFLECT = REFRACT = false`) and Whitted tracing.
 /// `SHADOWS = false` removes shadow rays from the code, `REFLECT = false`
-/// mirror reflection, `REFRACT = false` dielectrics: the plan instantiates
-/// only the combination the scene needs.
+/// mirror reflection, `REFRACT = false` dielectrics, `AREA = false` the
+/// sampling of area lights (soft shadows): the plan instantiates only the
+/// combination the scene needs.
 #[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct Whitted<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>;
+pub(crate) struct Whitted<
+    const SHADOWS: bool,
+    const REFLECT: bool,
+    const REFRACT: bool,
+    const AREA: bool,
+>;
 
-impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
-    for Whitted<SHADOWS, REFLECT, REFRACT>
+impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool, const AREA: bool> Integrator
+    for Whitted<SHADOWS, REFLECT, REFRACT, AREA>
 {
-    const BATCH: bool = true;
+    // Light sampling draws from each pixel sample's stream, which the
+    // render loop only hands out per sample.
+    const BATCH: bool = !AREA;
+    const SAMPLED: bool = AREA;
 
     #[inline]
     fn li<A>(
@@ -495,7 +600,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
     {
         let Some(sh) = hit else {
             return Li {
-                color: tr.data.background,
+                color: tr.data.miss(ray.dir),
                 t: Real::INFINITY,
                 hit: false,
             };
@@ -515,6 +620,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
                     color * ka,
                     color * (kd * FRAC_1_PI),
                     None,
+                    stream,
                     ts,
                 )
             }
@@ -538,6 +644,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
                     color * ka,
                     color * (kd * FRAC_1_PI),
                     spec,
+                    stream,
                     ts,
                 )
             }
@@ -563,6 +670,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
                     color * ka,
                     color * (kd * FRAC_1_PI),
                     spec,
+                    stream,
                     ts,
                 );
                 if REFLECT && depth < tr.data.max_depth && kr != 0.0 {
@@ -583,7 +691,15 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool> Integrator
                     Rgb::ZERO
                 }
             }
-            Material::Emissive { color, strength } => color * strength,
+            // Emission is one-sided: the front face (where the geometric
+            // normal points) glows, the back is black.
+            Material::Emissive { color, strength } => {
+                if sh.sp.n.dot(wo) > 0.0 {
+                    color * strength
+                } else {
+                    Rgb::ZERO
+                }
+            }
         };
         Li {
             color: color + sh.emission,
@@ -643,6 +759,12 @@ fn on_side(w: Vec3, ng: Vec3, ns: Vec3, above: bool) -> Vec3 {
     m.normalize()
 }
 
+/// The parameter end of a shadow ray towards a point sampled on an area
+/// light at `t = 1`: short of it by a relative margin, so that the light's
+/// own surface (whose sampled point carries rounding error) does not
+/// occlude it.
+pub(crate) const LIGHT_T_MAX: Real = 1.0 - 1e-4;
+
 /// The parameter end of a shadow ray towards a point light at `t = 1`:
 /// just short of it by a bound on the rounding of the ray (no fixed epsilon).
 #[inline]
@@ -650,8 +772,8 @@ pub(crate) fn point_shadow_t_max() -> Real {
     1.0 - gamma(16)
 }
 
-impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
-    Whitted<SHADOWS, REFLECT, REFRACT>
+impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool, const AREA: bool>
+    Whitted<SHADOWS, REFLECT, REFRACT, AREA>
 {
     /// Ambient plus direct lighting with Suffern's BRDFs: Lambert `kd·cd/π`
     /// and, with `spec = (ks·cs, exp)`, the glossy `ks·cs·(r·wo)^exp`; each
@@ -667,6 +789,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
         ambient: Rgb,
         diffuse: Rgb,
         spec: Option<(Rgb, f32)>,
+        stream: &mut SampleStream,
         ts: &mut ThreadState<A::Scratch>,
     ) -> Rgb
     where
@@ -677,9 +800,43 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
         if diffuse == Rgb::ZERO && spec.is_none() {
             return l;
         }
+        let brdf = |wi: Vec3| {
+            let mut f = diffuse;
+            if let Some((ks, exp)) = spec {
+                let r = reflect(wi, ns);
+                let rdotwo = r.dot(wo);
+                if rdotwo > 0.0 {
+                    f += ks * to_f32(rdotwo).powf(exp);
+                }
+            }
+            f
+        };
+        if AREA {
+            // One sample of the area lights, chosen by power (Suffern ch. 18
+            // samples each light; choosing one keeps the cost per shading
+            // point constant with many emitting triangles).
+            let (u1, u2) = (stream.next_2d().0, stream.next_2d());
+            if let Some(ls) = tr.data.emitters.sample(sp.p, u1, u2) {
+                let cos = ns.dot(ls.wi);
+                if cos > 0.0 && ng.dot(ls.wi) > 0.0 {
+                    let o = tr.data.ray_offset.origin(sp.p, sp.p_err, ng, ls.wi);
+                    ts.counts.light_sample += 1;
+                    let shadow = Ray::new(o, ls.point - o);
+                    if !tr.occluded(&shadow, LIGHT_T_MAX, &mut ts.scratch) {
+                        l += brdf(ls.wi) * ls.radiance * to_f32(cos / ls.pdf);
+                    }
+                }
+            }
+        }
         for light in &tr.data.lights {
             let (wi, radiance) = match *light {
                 DirectLight::Point {
+                    position,
+                    radiance,
+                    inverse_square,
+                    ..
+                }
+                | DirectLight::Spot {
                     position,
                     radiance,
                     inverse_square,
@@ -693,10 +850,13 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
                     } else {
                         radiance
                     };
-                    (wi, radiance)
+                    (wi, radiance * light.cone(wi))
                 }
                 DirectLight::Directional { dir, radiance, .. } => (dir, radiance),
             };
+            if radiance == Rgb::ZERO {
+                continue;
+            }
             let cos = ns.dot(wi);
             // The geometric normal decides the side (pbrt's rule): a light
             // below the surface lights nothing, whatever the shading normal.
@@ -706,6 +866,9 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
             if SHADOWS {
                 let (casts, shadow) = match *light {
                     DirectLight::Point {
+                        position, shadows, ..
+                    }
+                    | DirectLight::Spot {
                         position, shadows, ..
                     } => {
                         let o = tr.data.ray_offset.origin(sp.p, sp.p_err, ng, wi);
@@ -723,15 +886,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool>
                     }
                 }
             }
-            let mut f = diffuse;
-            if let Some((ks, exp)) = spec {
-                let r = reflect(wi, ns);
-                let rdotwo = r.dot(wo);
-                if rdotwo > 0.0 {
-                    f += ks * to_f32(rdotwo).powf(exp);
-                }
-            }
-            l += f * radiance * to_f32(cos);
+            l += brdf(wi) * radiance * to_f32(cos);
         }
         l
     }

@@ -76,6 +76,7 @@ mod float;
 mod framebuffer;
 pub mod hard_meshes;
 mod integrator;
+mod lights;
 pub mod offset_scenes;
 pub mod optics;
 mod path;
@@ -103,8 +104,8 @@ pub use render::{render, AccelKind, RenderOptions, RenderStats, Renderer};
 pub use robustness::{RayOffset, TriangleTest};
 pub use sampling::{Filter, SamplerKind};
 pub use scene::{
-    Camera, Geometry, IntegratorChoice, Light, Material, MaterialId, Mesh, Object, Projection, Rgb,
-    Scene, Settings,
+    Camera, EnvImage, Geometry, IntegratorChoice, Light, Material, MaterialId, Mesh, Object,
+    Projection, Rgb, Scene, Settings,
 };
 pub use shapes::{Cuboid, MtTriangle, Plane, Shape, Sphere, Triangle, MT_EPSILON};
 pub use texture::{MaterialMaps, Texture, TextureRef, Textures};

@@ -14,7 +14,7 @@
 use crate::emitters::Emitters;
 use crate::float::to_f32;
 use crate::integrator::{face_forward, Found, Integrator, Li, Shading, ThreadState, Tracer};
-use crate::integrator::{point_shadow_t_max, DirectLight};
+use crate::integrator::{point_shadow_t_max, DirectLight, LIGHT_T_MAX};
 use crate::optics::{fresnel_dielectric, reflect, refract};
 use crate::sampling::maps::{cosine_hemisphere, cosine_power_lobe, cosine_power_lobe_pdf, Frame};
 use crate::sampling::SampleStream;
@@ -152,9 +152,36 @@ impl PathTracer {
         let data = tr.data;
         let p = sh.sp.p;
         let mut l = Rgb::ZERO;
-        if !data.emitters.is_empty() {
+        if data.env_pick > 0.0 && u1 < data.env_pick {
+            // The environment, sampled by its image; the shadow ray is
+            // unbounded.
             let u2 = stream.next_2d();
-            if let Some(ls) = data.emitters.sample(p, u1, u2) {
+            if let Some(es) = data.env.as_ref().and_then(|e| e.sample(u2)) {
+                if ng.dot(es.wi) > 0.0 {
+                    let (f, pdf_bsdf) = lobes.eval(wo, es.wi, ns);
+                    if f != Rgb::ZERO {
+                        let o = tr.data.ray_offset.origin(p, sh.sp.p_err, ng, es.wi);
+                        ts.counts.light_sample += 1;
+                        if !tr.occluded(&Ray::new(o, es.wi), Real::INFINITY, &mut ts.scratch) {
+                            let pdf = data.env_pick * es.pdf;
+                            let w = power_heuristic(pdf, pdf_bsdf);
+                            let cos = ns.dot(es.wi);
+                            l += f * es.radiance * to_f32(cos * w / pdf);
+                        }
+                    }
+                }
+            }
+        } else if !data.emitters.is_empty() {
+            let u2 = stream.next_2d();
+            // The rest of u1 chooses among the area lights.
+            let (u1, scale) = if data.env_pick > 0.0 {
+                let u = (u1 - data.env_pick) / (1.0 - data.env_pick);
+                (u.clamp(0.0, 1.0 - Real::EPSILON), 1.0 - data.env_pick)
+            } else {
+                (u1, 1.0)
+            };
+            if let Some(mut ls) = data.emitters.sample(p, u1, u2) {
+                ls.pdf *= scale;
                 if ng.dot(ls.wi) > 0.0 {
                     let (f, pdf_bsdf) = lobes.eval(wo, ls.wi, ns);
                     if f != Rgb::ZERO {
@@ -177,6 +204,13 @@ impl PathTracer {
                     radiance,
                     inverse_square,
                     shadows,
+                }
+                | DirectLight::Spot {
+                    position,
+                    radiance,
+                    inverse_square,
+                    shadows,
+                    ..
                 } => {
                     let d = position - p;
                     let d2 = d.length_squared();
@@ -187,7 +221,10 @@ impl PathTracer {
                         radiance / to_f32(d2)
                     } else {
                         radiance
-                    };
+                    } * light.cone(wi);
+                    if r == Rgb::ZERO {
+                        continue;
+                    }
                     let o = tr.data.ray_offset.origin(p, sh.sp.p_err, ng, wi);
                     (
                         wi,
@@ -306,12 +343,6 @@ impl PathTracer {
     }
 }
 
-/// The parameter end of a shadow ray towards a point sampled on an area
-/// light at `t = 1`: short of it by a relative margin, so that the light's
-/// own surface (whose sampled point carries rounding error) does not
-/// occlude it.
-const LIGHT_T_MAX: Real = 1.0 - 1e-4;
-
 impl Integrator for PathTracer {
     const BATCH: bool = false;
     const SAMPLED: bool = true;
@@ -344,7 +375,14 @@ impl Integrator for PathTracer {
         let mut depth = 0u32;
         loop {
             let Some(found) = tr.closest(&ray, Real::INFINITY, &mut ts.scratch) else {
-                l += beta * data.background;
+                let mut w = 1.0;
+                if !specular && data.env_pick > 0.0 {
+                    if let Some(env) = &data.env {
+                        let pl = data.env_pick * env.pdf(ray.dir.normalize());
+                        w = power_heuristic(bsdf_pdf, pl);
+                    }
+                }
+                l += beta * data.miss(ray.dir) * to_f32(w);
                 break;
             };
             let sh = tr.shading(&ray, found);
@@ -361,11 +399,18 @@ impl Integrator for PathTracer {
                     if sh.sp.n.dot(wo) > 0.0 {
                         let mut w = 1.0;
                         if !specular {
-                            if let Found::Prim(h) = found {
-                                if let Some(e) = data.emitters.of(h.prim) {
-                                    let pl = Emitters::pdf(e, ray.dir, sh.t, sh.sp.n);
-                                    w = power_heuristic(bsdf_pdf, pl);
-                                }
+                            let e = match found {
+                                Found::Prim(h) => data.emitters.of(h.prim),
+                                Found::Area { index, .. } => data
+                                    .area_lights
+                                    .get(index as usize)
+                                    .and_then(|a| data.emitters.get(a.emitter)),
+                                Found::Plane { .. } => None,
+                            };
+                            if let Some(e) = e {
+                                let pl = (1.0 - data.env_pick)
+                                    * Emitters::pdf(e, ray.dir, sh.t, sh.sp.n);
+                                w = power_heuristic(bsdf_pdf, pl);
                             }
                         }
                         l += beta * color * strength * to_f32(w);

@@ -144,15 +144,24 @@ pub struct EffectPlan {
     /// Longest chain of secondary rays: 0 without reflection and refraction,
     /// else the scene's `max_depth` (the path tracer's `path_max_depth`).
     pub max_depth: u32,
-    /// Emitting primitives sampled as area lights (path tracing only).
+    /// Area lights sampled: emitting primitives (triangles of emissive
+    /// meshes, emissive spheres) and rectangle and disk lights.
     pub area_lights: u32,
-    /// Whether area lights are sampled (next-event estimation with MIS).
+    /// Whether area lights are sampled: next-event estimation with MIS when
+    /// path tracing, soft shadows (one light sample per shading point) in
+    /// the Whitted tracer.
     pub light_sampling: bool,
     /// Whether some material in use has a glossy (Phong) lobe that the path
     /// tracer samples.
     pub glossy: bool,
     /// Whether diffuse surfaces scatter indirect light (path tracing).
     pub indirect: bool,
+    /// Whether an environment light (of non-zero radiance) replaces the
+    /// background.
+    pub environment: bool,
+    /// Whether the environment's image is importance-sampled for light
+    /// (path tracing with an image environment).
+    pub env_sampling: bool,
 }
 
 impl EffectPlan {
@@ -206,7 +215,21 @@ impl EffectPlan {
             _ => false,
         });
         let transmits = in_use().any(|m| matches!(m, Material::Dielectric { .. }));
-        let can_shadow = scene.objects.len() + extra.map_or(0, |e| e.0) > 1
+        // Rectangle and disk lights of non-zero radiance: surfaces that emit.
+        let area_surfaces = scene
+            .lights
+            .iter()
+            .filter(|l| match **l {
+                Light::Rect {
+                    color, intensity, ..
+                }
+                | Light::Disk {
+                    color, intensity, ..
+                } => color * intensity != crate::Rgb::ZERO,
+                _ => false,
+            })
+            .count();
+        let can_shadow = scene.objects.len() + extra.map_or(0, |e| e.0) + area_surfaces > 1
             || scene
                 .objects
                 .iter()
@@ -231,6 +254,12 @@ impl EffectPlan {
                     intensity,
                     shadows,
                     ..
+                }
+                | Light::Spot {
+                    color,
+                    intensity,
+                    shadows,
+                    ..
                 } => {
                     if lit && color * intensity != crate::Rgb::ZERO {
                         direct_lights += 1;
@@ -239,6 +268,7 @@ impl EffectPlan {
                         }
                     }
                 }
+                Light::Rect { .. } | Light::Disk { .. } | Light::Environment { .. } => {}
             }
         }
         let emits = |m: &Material| matches!(*m, Material::Emissive { color, strength } if color * strength != crate::Rgb::ZERO);
@@ -247,11 +277,15 @@ impl EffectPlan {
             !matches!(o.geometry, Geometry::Plane { .. })
                 && scene.materials.get(o.material as usize).is_some_and(emits)
         }) || extra
-            .is_some_and(|e| scene.materials.get(e.1 as usize).is_some_and(emits));
+            .is_some_and(|e| scene.materials.get(e.1 as usize).is_some_and(emits))
+            || area_surfaces > 0;
+        let environment = scene.lights.iter().any(|l| {
+            matches!(*l, Light::Environment { color, intensity, .. } if color * intensity != crate::Rgb::ZERO)
+        });
         let path = match scene.settings.integrator {
             IntegratorChoice::Path => true,
             IntegratorChoice::Whitted => false,
-            IntegratorChoice::Auto => emitting_geometry,
+            IntegratorChoice::Auto => emitting_geometry || environment,
         };
         if path {
             let glossy = in_use().any(|m| match *m {
@@ -265,12 +299,14 @@ impl EffectPlan {
                 | Material::Reflective { color, kd, .. } => kd != 0.0 && color != crate::Rgb::ZERO,
                 _ => false,
             });
-            return Self::path(
+            let mut plan = Self::path(
                 scene,
                 [emitting_geometry, reflects, transmits, glossy, indirect],
                 direct_lights,
                 shadow_lights,
             );
+            plan.environment = environment;
+            return plan;
         }
         let depth = scene.settings.max_depth;
         let reflection = reflects && depth > 0;
@@ -298,9 +334,12 @@ impl EffectPlan {
             refraction,
             max_depth: if secondary { depth } else { 0 },
             area_lights: 0,
-            light_sampling: false,
+            // Soft shadows: area lights sampled at every lit shading point.
+            light_sampling: lit && emitting_geometry,
             glossy: false,
             indirect: false,
+            environment,
+            env_sampling: false,
         }
     }
 
@@ -330,6 +369,8 @@ impl EffectPlan {
             light_sampling: emitting_geometry && depth > 0,
             glossy: glossy && depth > 0,
             indirect: indirect && depth > 0,
+            environment: false,
+            env_sampling: false,
         }
     }
 }
@@ -388,7 +429,21 @@ impl fmt::Display for EffectPlan {
                 }
             )?;
             writeln!(f, "indirect    {}", on_off(self.indirect))?;
+            if self.environment {
+                writeln!(
+                    f,
+                    "environment on ({})",
+                    if self.env_sampling {
+                        "image, importance-sampled"
+                    } else {
+                        "constant, reached by BSDF sampling"
+                    }
+                )?;
+            }
             writeln!(f, "glossy      {}", on_off(self.glossy))?;
+        }
+        if self.integrator != IntegratorKind::Path && self.light_sampling {
+            writeln!(f, "area lights {} sampled (soft shadows)", self.area_lights)?;
         }
         writeln!(f, "reflection  {}", on_off(self.reflection))?;
         write!(f, "refraction  {}", on_off(self.refraction))

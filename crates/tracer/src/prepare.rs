@@ -6,11 +6,12 @@ use crate::emitters::EmitterShape;
 use crate::error::SceneError;
 use crate::float::to_f64;
 use crate::integrator::{DirectLight, MeshRef, MeshShading, PrimMaterials, SceneData};
+use crate::lights::{AreaLight, Environment};
 use crate::plan::{EffectPlan, IntegratorKind};
 use crate::scene::{Geometry, Light, Material, MaterialId, Rgb, Scene};
 use crate::shapes::{Cuboid, Plane, Shape, Sphere, Triangle};
 use crate::texture::shade::{TextureData, TriFrame};
-use gridrt_bbox::Vec3;
+use gridrt_bbox::{Real, Vec3};
 
 /// The largest image, in pixels, the renderer accepts (8192 × 8192).
 pub const MAX_PIXELS: u64 = 1 << 26;
@@ -141,6 +142,83 @@ fn check_light(i: usize, l: &Light) -> Result<(), SceneError> {
             }
             (color, intensity)
         }
+        Light::Spot {
+            position,
+            direction,
+            color,
+            intensity,
+            inner_deg,
+            outer_deg,
+            ..
+        } => {
+            if !position.is_finite() {
+                return bad("the position is not finite; give finite coordinates");
+            }
+            if !direction.is_finite() || direction.try_normalize().is_none() {
+                return bad("the direction is zero or not finite; give the (non-zero) direction the spot points to");
+            }
+            if !(outer_deg > 0.0 && outer_deg <= 180.0) {
+                return bad("the outer angle must be in (0, 180] degrees");
+            }
+            if !(inner_deg >= 0.0 && inner_deg <= outer_deg) {
+                return bad("the inner angle must be in [0, outer angle] degrees");
+            }
+            (color, intensity)
+        }
+        Light::Rect {
+            corner,
+            edge_u,
+            edge_v,
+            color,
+            intensity,
+        } => {
+            if !corner.is_finite() || !edge_u.is_finite() || !edge_v.is_finite() {
+                return bad("the corner and edges must be finite");
+            }
+            if AreaLight::rect(corner, edge_u, edge_v, 0).is_none() {
+                return bad("the edges are zero or parallel; give two edges that span a rectangle");
+            }
+            (color, intensity)
+        }
+        Light::Disk {
+            center,
+            normal,
+            radius,
+            color,
+            intensity,
+        } => {
+            if !center.is_finite() || !normal.is_finite() {
+                return bad("the centre and normal must be finite");
+            }
+            if normal.try_normalize().is_none() {
+                return bad("the normal is zero; give the side the disk emits to");
+            }
+            if !(radius > 0.0) || !radius.is_finite() {
+                return bad("the radius must be finite and > 0");
+            }
+            (color, intensity)
+        }
+        Light::Environment {
+            color,
+            intensity,
+            ref image,
+        } => {
+            if let Some(img) = image {
+                let n = u64::from(img.width) * u64::from(img.height);
+                if n == 0 || img.pixels.len() as u64 != n {
+                    return bad(
+                        "the environment image is empty or its pixel count is not width × height",
+                    );
+                }
+                if n > MAX_PIXELS {
+                    return bad("the environment image has more than 2^26 pixels; scale it down");
+                }
+                if !img.pixels.iter().all(|&p| color_ok(p)) {
+                    return bad("the environment image has negative or non-finite pixels");
+                }
+            }
+            (color, intensity)
+        }
     };
     if !color_ok(color) || !coef_ok(intensity) {
         return bad("the colour and intensity must be finite and ≥ 0");
@@ -185,7 +263,16 @@ pub(crate) fn prepare(scene: &Scene, set: Option<SphereSet>) -> Result<Prepared,
     );
     data.emitters.finish(prims.len());
     plan.area_lights = data.emitters.list.len() as u32;
-    plan.light_sampling = plan.area_lights > 0;
+    // The path tracer samples the image; Whitted only sees it.
+    let env_sampled = plan.integrator == IntegratorKind::Path
+        && data.env.as_ref().is_some_and(Environment::sampled);
+    data.env_pick = match (env_sampled, data.emitters.is_empty()) {
+        (false, _) => 0.0,
+        (true, true) => 1.0,
+        (true, false) => 0.5,
+    };
+    plan.env_sampling = env_sampled;
+    plan.light_sampling = plan.area_lights > 0 || env_sampled;
     if plan.integrator == IntegratorKind::Path {
         let emits = scene.objects.iter().any(|o| {
             scene
@@ -193,6 +280,7 @@ pub(crate) fn prepare(scene: &Scene, set: Option<SphereSet>) -> Result<Prepared,
                 .get(o.material as usize)
                 .is_some_and(|m| emission(m) != Rgb::ZERO)
         });
+        let emits = emits || !data.area_lights.is_empty() || data.env.is_some();
         if !emits && data.lights.is_empty() && s.background == Rgb::ZERO {
             return Err(SceneError::NothingEmits);
         }
@@ -242,6 +330,16 @@ fn validate(scene: &Scene, set: Option<&SphereSet>) -> Result<(usize, bool), Sce
     }
     for (i, l) in scene.lights.iter().enumerate() {
         check_light(i, l)?;
+        if matches!(l, Light::Environment { .. })
+            && scene.lights[..i]
+                .iter()
+                .any(|l| matches!(l, Light::Environment { .. }))
+        {
+            return Err(SceneError::BadLight {
+                light: i,
+                reason: "a second Environment light: a scene has at most one",
+            });
+        }
     }
     scene
         .textures
@@ -469,6 +567,82 @@ fn shading_data(scene: &Scene, plan: &EffectPlan) -> SceneData {
                 radiance: color * intensity,
                 shadows: shadows && plan.shadows,
             }),
+            Light::Spot {
+                position,
+                direction,
+                color,
+                intensity,
+                inner_deg,
+                outer_deg,
+                inverse_square,
+                shadows,
+            } => data.lights.push(DirectLight::Spot {
+                position,
+                axis: direction.normalize(),
+                radiance: color * intensity,
+                cos_inner: Real::from(inner_deg).to_radians().cos(),
+                cos_outer: Real::from(outer_deg).to_radians().cos(),
+                inverse_square,
+                shadows: shadows && plan.shadows,
+            }),
+            Light::Rect {
+                corner,
+                edge_u,
+                edge_v,
+                color,
+                intensity,
+            } => {
+                let material = data.materials.len() as u32;
+                if let Some(l) = AreaLight::rect(corner, edge_u, edge_v, material) {
+                    data.materials.push(Material::Emissive {
+                        color,
+                        strength: intensity,
+                    });
+                    data.area_lights.push(l);
+                }
+            }
+            Light::Disk {
+                center,
+                normal,
+                radius,
+                color,
+                intensity,
+            } => {
+                let material = data.materials.len() as u32;
+                if let Some(l) = AreaLight::disk(center, normal, radius, material) {
+                    data.materials.push(Material::Emissive {
+                        color,
+                        strength: intensity,
+                    });
+                    data.area_lights.push(l);
+                }
+            }
+            // Set up below, once the plan says it is in use.
+            Light::Environment { .. } => {}
+        }
+    }
+    if plan.environment {
+        for l in &scene.lights {
+            if let Light::Environment {
+                color,
+                intensity,
+                ref image,
+            } = *l
+            {
+                data.env = Some(Environment::new(color * intensity, image.clone()));
+            }
+        }
+    }
+    if plan.light_sampling {
+        for l in &mut data.area_lights {
+            let radiance = match data.materials[l.material as usize] {
+                Material::Emissive { color, strength } => color * strength,
+                _ => Rgb::ZERO,
+            };
+            l.emitter = data
+                .emitters
+                .push_shape(l.emitter_shape(), radiance)
+                .unwrap_or(u32::MAX);
         }
     }
     if plan.direct_lights == 0 {
@@ -476,11 +650,7 @@ fn shading_data(scene: &Scene, plan: &EffectPlan) -> SceneData {
         data.lights.clear();
     }
     // Lights of zero radiance only cost time.
-    data.lights.retain(|l| match *l {
-        DirectLight::Point { radiance, .. } | DirectLight::Directional { radiance, .. } => {
-            radiance != Rgb::ZERO
-        }
-    });
+    data.lights.retain(|l| l.radiance() != Rgb::ZERO);
 
     data
 }

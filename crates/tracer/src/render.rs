@@ -603,14 +603,15 @@ impl Job<'_> {
         if plan.integrator == IntegratorKind::Path {
             return self.pick_jitter::<A, PathTracer>(accel, data, plan);
         }
-        if plan.shadows {
-            self.pick_secondary::<A, true>(accel, data, plan)
-        } else {
-            self.pick_secondary::<A, false>(accel, data, plan)
+        match (plan.shadows, plan.light_sampling) {
+            (false, false) => self.pick_secondary::<A, false, false>(accel, data, plan),
+            (true, false) => self.pick_secondary::<A, true, false>(accel, data, plan),
+            (false, true) => self.pick_secondary::<A, false, true>(accel, data, plan),
+            (true, true) => self.pick_secondary::<A, true, true>(accel, data, plan),
         }
     }
 
-    fn pick_secondary<A, const SHADOWS: bool>(
+    fn pick_secondary<A, const SHADOWS: bool, const AREA: bool>(
         &self,
         accel: &A,
         data: &SceneData,
@@ -623,12 +624,14 @@ impl Job<'_> {
         // Refraction always comes with (Fresnel) reflection.
         match (plan.reflection, plan.refraction) {
             (false, false) => {
-                self.pick_jitter::<A, Whitted<SHADOWS, false, false>>(accel, data, plan)
+                self.pick_jitter::<A, Whitted<SHADOWS, false, false, AREA>>(accel, data, plan)
             }
             (true, false) => {
-                self.pick_jitter::<A, Whitted<SHADOWS, true, false>>(accel, data, plan)
+                self.pick_jitter::<A, Whitted<SHADOWS, true, false, AREA>>(accel, data, plan)
             }
-            (_, true) => self.pick_jitter::<A, Whitted<SHADOWS, true, true>>(accel, data, plan),
+            (_, true) => {
+                self.pick_jitter::<A, Whitted<SHADOWS, true, true, AREA>>(accel, data, plan)
+            }
         }
     }
 

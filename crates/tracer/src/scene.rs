@@ -60,7 +60,8 @@ pub struct Settings {
 /// Which integrator renders a scene.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum IntegratorChoice {
-    /// Path tracing when some object emits light (an area light), else
+    /// Path tracing when some object emits light or the scene has a
+    /// rectangle or disk light (an area light), else
     /// Whitted (or plain ray casting when nothing reflects or refracts).
     #[default]
     Auto,
@@ -247,6 +248,19 @@ pub enum Material {
     },
 }
 
+/// An equirectangular (latitude-longitude) environment image in linear
+/// RGB, rows from the top (the zenith, +y) down; the image centre looks
+/// along −z and columns grow towards +x.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct EnvImage {
+    /// Columns (≥ 1).
+    pub width: u32,
+    /// Rows (≥ 1).
+    pub height: u32,
+    /// `width × height` colours, row by row.
+    pub pixels: Vec<Rgb>,
+}
+
 /// Light sources.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Light {
@@ -280,6 +294,71 @@ pub enum Light {
         intensity: f32,
         /// Whether it casts shadows.
         shadows: bool,
+    },
+    /// A spot light: a point light whose light is limited to a cone about
+    /// `direction`, full inside `inner_deg`, falling off smoothly
+    /// (pbrt-v4's smoothstep in the cosine) to nothing at `outer_deg`.
+    Spot {
+        /// Position.
+        position: Vec3,
+        /// The axis of the cone, **from** the light (need not be unit length).
+        direction: Vec3,
+        /// Colour.
+        color: Rgb,
+        /// Radiance scale on the axis.
+        intensity: f32,
+        /// Half-angle of the cone of full intensity, degrees, in `[0, outer_deg]`.
+        inner_deg: f32,
+        /// Half-angle where the light ends, degrees, in `(0, 180]`.
+        outer_deg: f32,
+        /// Divide by distance² (physically right); off = Suffern's default.
+        inverse_square: bool,
+        /// Whether it casts shadows.
+        shadows: bool,
+    },
+    /// An area light: a parallelogram (a rectangle when the edges are
+    /// perpendicular) emitting `color·intensity` as radiance from its front
+    /// face, the side `edge_u × edge_v` points to. It is visible, occludes
+    /// like any surface, and is sampled for soft shadows.
+    Rect {
+        /// One corner.
+        corner: Vec3,
+        /// The first edge from `corner`.
+        edge_u: Vec3,
+        /// The second edge from `corner`.
+        edge_v: Vec3,
+        /// Colour.
+        color: Rgb,
+        /// Emitted radiance scale.
+        intensity: f32,
+    },
+    /// An area light: a disk emitting `color·intensity` as radiance from its
+    /// front face, the side `normal` points to. Visible, occluding and
+    /// sampled like [`Light::Rect`].
+    Disk {
+        /// Centre.
+        center: Vec3,
+        /// The front side (need not be unit length, must not be zero).
+        normal: Vec3,
+        /// Radius, > 0.
+        radius: Real,
+        /// Colour.
+        color: Rgb,
+        /// Emitted radiance scale.
+        intensity: f32,
+    },
+    /// Light from infinitely far away in every direction: radiance
+    /// `color·intensity`, times the image's colour in that direction when
+    /// there is an image. It replaces the `background` for rays that leave
+    /// the scene; the path tracer samples the image by its brightness. At
+    /// most one per scene.
+    Environment {
+        /// Colour.
+        color: Rgb,
+        /// Radiance scale.
+        intensity: f32,
+        /// An equirectangular image (shared, so cloning a scene is cheap).
+        image: Option<std::sync::Arc<EnvImage>>,
     },
 }
 

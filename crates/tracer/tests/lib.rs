@@ -3,10 +3,12 @@
 //! meshes, precision, the Suffern benchmark counts, errors, cancellation.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+mod area_lights;
 mod common;
 
 mod determinism;
 mod dielectric;
+mod environment;
 mod errors;
 mod lambert;
 mod leaks;

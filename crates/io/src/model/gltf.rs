@@ -23,12 +23,9 @@ use gltf::Document;
 use gridrt_bbox::{Real, Vec3};
 use gridrt_tracer::{Camera, Light, Material, Mesh, Projection, Rgb};
 use std::collections::HashMap;
+use std::f32::consts::{FRAC_PI_2, FRAC_PI_4};
 use std::path::Path;
 use std::rc::Rc;
-
-/// The warning for a spot light turned into a point light (scenes that do
-/// not use the file's lights drop it).
-pub(crate) const SPOT_WARNING: &str = "a spot light is rendered as a point light (no cone)";
 
 /// Deepest node hierarchy accepted (deeper means a cycle or a broken file).
 const MAX_DEPTH: usize = 256;
@@ -550,18 +547,29 @@ impl Loader<'_> {
                 intensity,
                 shadows: true,
             }),
-            (Checked::Valid(kind @ (Type::Point | Type::Spot)), _) => {
-                if matches!(kind, Type::Spot) {
-                    self.warnings.push(format!(
-                        "{}: {}: {SPOT_WARNING}",
-                        self.path.display(),
-                        node_label(node)
-                    ));
-                }
-                self.lights.push(Light::Point {
+            (Checked::Valid(Type::Point), _) => self.lights.push(Light::Point {
+                position,
+                color,
+                intensity,
+                inverse_square: true,
+                shadows: true,
+            }),
+            (Checked::Valid(Type::Spot), Some(d)) => {
+                // Cone angles in radians, 0 ≤ inner < outer ≤ π/2 by the
+                // specification; out-of-range values are clamped into it.
+                let (inner, outer) = l.spot.as_ref().map_or((0.0, FRAC_PI_4), |s| {
+                    (s.inner_cone_angle, s.outer_cone_angle)
+                });
+                let finite_or = |x: f32, d: f32| if x.is_finite() { x } else { d };
+                let outer = finite_or(outer, FRAC_PI_4).clamp(1e-4, FRAC_PI_2);
+                let inner = finite_or(inner, 0.0).clamp(0.0, outer);
+                self.lights.push(Light::Spot {
                     position,
+                    direction: to_vec3(d),
                     color,
                     intensity,
+                    inner_deg: inner.to_degrees(),
+                    outer_deg: outer.to_degrees(),
                     inverse_square: true,
                     shadows: true,
                 });
@@ -829,7 +837,12 @@ fn pbr_material(m: &gltf::Material) -> Material {
     let e = m
         .emissive_factor()
         .map(|x| if x.is_finite() { x.max(0.0) } else { 0.0 });
-    let emissive = Rgb::from_array(e);
+    // KHR_materials_emissive_strength scales the factor (HDR emission).
+    let strength = m
+        .emissive_strength()
+        .filter(|s| s.is_finite() && *s >= 0.0)
+        .unwrap_or(1.0);
+    let emissive = Rgb::from_array(e) * strength;
     let max_e = emissive.max_element();
     // An emissive texture is a map (the surface reflects too); alpha below
     // 1 is the material's alpha mode (cut-outs or blending).

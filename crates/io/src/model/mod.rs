@@ -13,7 +13,6 @@ mod obj_textures;
 mod ply;
 pub(crate) mod texture_load;
 
-pub(crate) use self::gltf::SPOT_WARNING;
 pub use self::normals::{Crease, Normals, DEFAULT_CREASE_DEG};
 use crate::error::{Error, Result};
 use crate::sandbox::Sandbox;
@@ -60,7 +59,7 @@ pub struct Model {
     pub materials: Vec<NamedMaterial>,
     /// The cameras in node order (glTF only): the first is the default view.
     pub cameras: Vec<ModelCamera>,
-    /// The file's lights (glTF `KHR_lights_punctual`; spot lights become point lights).
+    /// The file's lights (glTF `KHR_lights_punctual`: directional, point and spot).
     pub lights: Vec<Light>,
     /// The file's texture images, decoded; [`NamedMaterial::maps`] refer
     /// to them by index.
@@ -218,7 +217,32 @@ impl Model {
                 Light::Directional { direction, .. } => {
                     *direction = to_vec3(xf.normal.mul_vec3(to_dvec3(*direction)));
                 }
-                Light::Ambient { .. } => {}
+                Light::Spot {
+                    position,
+                    direction,
+                    ..
+                } => {
+                    *position = to_vec3(xf.m.transform_point3(to_dvec3(*position)));
+                    *direction = to_vec3(xf.m.transform_vector3(to_dvec3(*direction)));
+                }
+                Light::Rect {
+                    corner,
+                    edge_u,
+                    edge_v,
+                    ..
+                } => {
+                    *corner = to_vec3(xf.m.transform_point3(to_dvec3(*corner)));
+                    *edge_u = to_vec3(xf.m.transform_vector3(to_dvec3(*edge_u)));
+                    *edge_v = to_vec3(xf.m.transform_vector3(to_dvec3(*edge_v)));
+                }
+                Light::Disk { center, normal, .. } => {
+                    // A uniform scale keeps a disk a disk; the radius is
+                    // left as given.
+                    *center = to_vec3(xf.m.transform_point3(to_dvec3(*center)));
+                    *normal = to_vec3(xf.normal.mul_vec3(to_dvec3(*normal)));
+                }
+                // Directions of an environment stay in world space.
+                Light::Ambient { .. } | Light::Environment { .. } => {}
             }
         }
         Ok(())
