@@ -8,7 +8,7 @@ use crate::integrator::{Found, Integrator, Li, SceneData, Shading, ThreadState, 
 use crate::path::PathTracer;
 use crate::plan::{EffectPlan, IntegratorKind, RayCounts};
 use crate::pool::Pool;
-use crate::prepare::{prepare, Prepared, Prims, SphereSet};
+use crate::prepare::{prepare, Prepared, Prims};
 use crate::robustness::{with_triangle_test, RayOffset, TriangleTest};
 use crate::sampling::{FilterTable, SampleStream, SamplerKind};
 use crate::scene::{Rgb, Scene};
@@ -178,31 +178,6 @@ impl Renderer {
     /// # Errors
     /// A [`SceneError`] naming the first problem found.
     pub fn new(scene: &Scene, options: &RenderOptions) -> Result<Renderer, SceneError> {
-        Self::build(scene, None, options)
-    }
-
-    /// Like [`Renderer::new`], with the spheres of `set` added after the
-    /// scene's objects (in primitive order). The set's vector of spheres is
-    /// moved into the accelerator without a copy when the scene has no other
-    /// grid primitives. This is the fast way to render huge sphere scenes
-    /// ([`crate::suffern::renderer`]).
-    ///
-    /// # Errors
-    /// A [`SceneError`] naming the first problem found; sphere `i` of the
-    /// set is reported as object `scene.objects.len() + i`.
-    pub fn with_spheres(
-        scene: &Scene,
-        set: SphereSet,
-        options: &RenderOptions,
-    ) -> Result<Renderer, SceneError> {
-        Self::build(scene, Some(set), options)
-    }
-
-    fn build(
-        scene: &Scene,
-        set: Option<SphereSet>,
-        options: &RenderOptions,
-    ) -> Result<Renderer, SceneError> {
         let start = Instant::now();
         let Prepared {
             mut data,
@@ -212,7 +187,7 @@ impl Renderer {
             width,
             height,
             spp,
-        } = prepare(scene, set)?;
+        } = prepare(scene)?;
         data.ray_offset = options.ray_offset;
         let prims = with_triangle_test(prims, options.triangle_test);
         let pool = Pool::new(options.threads);
