@@ -235,9 +235,6 @@ where
     pub(crate) fn prefetch(&self, found: Option<Found>) {
         if let Some(Found::Prim(h)) = found {
             let i = h.prim as usize;
-            if let Some(p) = self.accel.primitives().get(i) {
-                gridrt_grid::mem::prefetch(p);
-            }
             if let Some(a) = self.data.prim_albedo.get(i) {
                 gridrt_grid::mem::prefetch(a);
             }
@@ -257,7 +254,10 @@ where
         match found {
             Found::Prim(h) => {
                 let i = h.prim as usize;
-                let sp = self.accel.primitives()[i].surface(ray, h.t, h.u, h.v);
+                // The accelerator's own storage (a grid's cell order) holds
+                // the primitive in `slot`; the per-primitive tables go by
+                // primitive index.
+                let sp = self.accel.primitives()[h.slot as usize].surface(ray, h.t, h.u, h.v);
                 let mut ns = sp.n;
                 if let Some(m) = self.data.prim_mesh.get(i) {
                     if m.mesh != u32::MAX {

@@ -148,22 +148,16 @@ fn grid_config(options: &RenderOptions, parallel: bool) -> Option<GridConfig> {
     }
 }
 
-/// The accelerator the options ask for; a grid over small primitives
-/// (`copies`) keeps copies of them in cell order
-/// ([`Grid::build_with_copies`]).
-fn build_accel<P: Primitive + Clone + Send>(
+/// The accelerator the options ask for (a grid stores the primitives in
+/// cell order).
+fn build_accel<P: Primitive + Send>(
     prims: Vec<P>,
     options: &RenderOptions,
-    copies: bool,
     parallel: bool,
 ) -> (AccelOf<P>, Option<GridStats>) {
     match grid_config(options, parallel) {
         Some(config) => {
-            let grid = if copies {
-                Grid::build_with_copies(prims, &config)
-            } else {
-                Grid::build(prims, &config)
-            };
+            let grid = Grid::build(prims, &config);
             let stats = grid.stats().clone();
             (AccelOf::Grid(grid), Some(stats))
         }
@@ -195,11 +189,11 @@ impl Renderer {
         let prim_count = prims.len() + data.planes.len();
         let (accel, grid_stats) = pool.install(|| match prims {
             Prims::Spheres(v) => {
-                let (a, s) = build_accel(v, options, true, parallel);
+                let (a, s) = build_accel(v, options, parallel);
                 (Accel::Spheres(a), s)
             }
             Prims::Shapes(v) => {
-                let (a, s) = build_accel(v, options, false, parallel);
+                let (a, s) = build_accel(v, options, parallel);
                 (Accel::Shapes(a), s)
             }
         });
