@@ -13,10 +13,12 @@ use std::time::Instant;
 mod check;
 mod lookup;
 mod query;
+mod slots;
 
 use lookup::{DenseLookup, HashedLookup};
 
 use query::{AnyHit, Closest};
+use slots::{reorder, slot_order};
 
 /// `closest_hit` stops after a cell only if the best hit lies before the
 /// cell's exit by more than this fraction of `|t_exit|` (a few ulps): a hit
@@ -178,6 +180,41 @@ impl<P: Primitive> Grid<P> {
     where
         P: Send,
     {
+        let (start, budget, b) = Self::index(&prims, config);
+        let parallel = config.parallel_build;
+        Self::assemble(start, budget, b, prims.len(), config, |ids| {
+            reorder(prims, ids, parallel)
+        })
+    }
+
+    /// [`Grid::build`] over primitives the caller keeps (a scene's shared
+    /// array): each primitive is cloned once, straight into its slot, with
+    /// no copy in the given order on the way.
+    ///
+    /// # Panics
+    ///
+    /// As [`Grid::build`].
+    #[must_use]
+    pub fn build_from_slice(prims: &[P], config: &GridConfig) -> Self
+    where
+        P: Clone + Send,
+    {
+        let (start, budget, b) = Self::index(prims, config);
+        let parallel = config.parallel_build;
+        Self::assemble(start, budget, b, prims.len(), config, |ids| {
+            crate::par::map_range(ids.len(), parallel, |s| {
+                // The reads jump around: ask for a primitive some slots ahead.
+                if let Some(&p) = ids.get(s + 32) {
+                    crate::mem::prefetch(&prims[p as usize]);
+                }
+                prims[ids[s] as usize].clone()
+            })
+        })
+    }
+
+    /// The cells and references over `prims`, with the build's start and
+    /// memory budget.
+    fn index(prims: &[P], config: &GridConfig) -> (Instant, usize, build::Built) {
         assert!(
             u32::try_from(prims.len()).is_ok(),
             "at most u32::MAX primitives"
@@ -187,9 +224,21 @@ impl<P: Primitive> Grid<P> {
         let budget = config
             .budget_for(n, std::mem::size_of::<P>())
             .max(Self::min_budget(n));
-        let b = build::build(&prims, config, budget);
+        (start, budget, build::build(prims, config, budget))
+    }
+
+    /// The grid from its index `b` over `n` primitives; `order` gives the
+    /// primitives in slot order, given the primitive of each slot.
+    fn assemble(
+        start: Instant,
+        budget: usize,
+        b: build::Built,
+        n: usize,
+        config: &GridConfig,
+        order: impl FnOnce(&[u32]) -> Vec<P>,
+    ) -> Self {
         let (ids, unbounded) = slot_order(b.ids, &b.unbounded, n);
-        let prims = reorder(prims, &ids, config.parallel_build);
+        let prims = order(&ids);
         let mut grid = Self {
             prims,
             config: *config,
@@ -632,50 +681,6 @@ impl<P: Primitive> Grid<P> {
             with_lookup!(self, l => dda.walk(&l, &mut q), ControlFlow::Continue(())).is_break()
         }
     }
-}
-
-/// The primitive of each slot: the gridded primitives in the order of
-/// `gridded` (their first reference), then the unbounded ones, then any
-/// primitive that no cell references (none in practice: every gridded
-/// primitive touches a cell); and the slots of the unbounded ones.
-fn slot_order(gridded: Box<[u32]>, unbounded: &[u32], n: usize) -> (Box<[u32]>, Box<[u32]>) {
-    let mut ids = gridded.into_vec();
-    let first = ids.len() as u32;
-    ids.extend_from_slice(unbounded);
-    let slots = (first..ids.len() as u32).collect();
-    if ids.len() < n {
-        let mut seen = vec![false; n];
-        for &p in &ids {
-            seen[p as usize] = true;
-        }
-        ids.extend((0..n as u32).filter(|&p| !seen[p as usize]));
-    }
-    debug_assert_eq!(ids.len(), n);
-    (ids.into_boxed_slice(), slots)
-}
-
-/// `prims` in slot order: slot `s` holds `prims[ids[s]]`. Each primitive
-/// is moved once, in parallel when asked; `ids` must be a permutation of
-/// `0..prims.len()` (as [`slot_order`] makes it).
-fn reorder<P: Send>(mut prims: Vec<P>, ids: &[u32], parallel: bool) -> Vec<P> {
-    assert_eq!(ids.len(), prims.len(), "one slot per primitive");
-    if ids.iter().enumerate().all(|(s, &p)| s == p as usize) {
-        return prims;
-    }
-    let src = crate::par::SharedMut(prims.as_mut_ptr());
-    let out = crate::par::map_range(ids.len(), parallel, |s| {
-        // The reads jump around: ask for a primitive some slots ahead.
-        if let Some(&p) = ids.get(s + 32) {
-            src.prefetch(p as usize);
-        }
-        // SAFETY: `ids` is a permutation of the indices of `prims`, so each
-        // primitive is read exactly once; `set_len(0)` below makes sure
-        // none is dropped twice.
-        unsafe { src.read(ids[s] as usize) }
-    });
-    // SAFETY: every element has been moved out above.
-    unsafe { prims.set_len(0) };
-    out
 }
 
 impl<P: Primitive> Accelerator for Grid<P> {

@@ -523,3 +523,38 @@ fn suffern_scene_matches_the_peers_pixel_counts() {
         assert_eq!(scenes::checksum(&hits).0, want, "N = {n}");
     }
 }
+
+/// A grid built from a borrowed slice (each primitive cloned into its
+/// slot) is the grid built from the vector: same slots, same cells, same
+/// answers.
+#[test]
+fn building_from_a_slice_is_building_from_the_vector() {
+    let s: Vec<Sphere> = scenes::suffern_spheres(3000);
+    for storage in [CellStorage::Dense, CellStorage::Hashed] {
+        let c = GridConfig {
+            storage,
+            ..GridConfig::default()
+        };
+        let a = Grid::build(s.clone(), &c);
+        let b = Grid::build_from_slice(&s, &c);
+        b.check_invariants().expect("invariants");
+        assert_eq!(a.primitive_ids(), b.primitive_ids());
+        assert_eq!(
+            format!("{:?}", a.primitives()),
+            format!("{:?}", b.primitives())
+        );
+        let mut rng = Lcg::new(5);
+        let (mut sa, mut sb) = (a.scratch(), b.scratch());
+        for _ in 0..200 {
+            let mut u = || rng.next_f32() as Real - 0.5;
+            let o = Vec3::new(u(), u(), 4.0);
+            let ray = Ray::new(o, Vec3::new(u(), u(), -1.0));
+            let (ha, hb) = (
+                a.closest_hit(&ray, 0.0, Real::INFINITY, &mut sa),
+                b.closest_hit(&ray, 0.0, Real::INFINITY, &mut sb),
+            );
+            assert_eq!(ha, hb);
+            assert_eq!(ha.map(|h| h.slot), hb.map(|h| h.slot));
+        }
+    }
+}

@@ -80,13 +80,38 @@ impl PrimMaterials {
 /// Everything shading needs besides the accelerator. Primitive `i` of the
 /// accelerator has material `prim_material.get(i)`; planes come after all
 /// primitives in the tie order.
+/// The colour of each primitive: a table of its own, or a sphere set's
+/// colours, shared with the scene (the scene's only primitives).
+#[derive(Clone, Debug)]
+pub(crate) enum PrimColors {
+    Own(Vec<Rgb>),
+    Set(std::sync::Arc<crate::SphereSet>),
+}
+
+impl Default for PrimColors {
+    fn default() -> Self {
+        Self::Own(Vec::new())
+    }
+}
+
+impl std::ops::Deref for PrimColors {
+    type Target = [Rgb];
+    #[inline]
+    fn deref(&self) -> &[Rgb] {
+        match self {
+            Self::Own(v) => v,
+            Self::Set(s) => &s.colors,
+        }
+    }
+}
+
 #[derive(Clone, Debug, Default)]
 pub(crate) struct SceneData {
     pub materials: Vec<Material>,
     pub prim_material: PrimMaterials,
     /// Empty, or one colour per primitive that replaces the albedo (`color`)
     /// of its Matte, Phong or Reflective material (a sphere set's colours).
-    pub prim_albedo: Vec<Rgb>,
+    pub prim_albedo: PrimColors,
     /// Empty when no mesh has normals; else one entry per primitive.
     pub prim_mesh: Vec<MeshRef>,
     pub meshes: Vec<MeshShading>,

@@ -5,11 +5,12 @@ use crate::camera::CameraModel;
 use crate::emitters::EmitterShape;
 use crate::error::SceneError;
 use crate::float::to_f64;
-use crate::integrator::{DirectLight, MeshRef, MeshShading, PrimMaterials, SceneData};
+use crate::integrator::{DirectLight, MeshRef, MeshShading, PrimColors, PrimMaterials, SceneData};
 use crate::plan::{EffectPlan, IntegratorKind};
 use crate::scene::{Geometry, Light, Material, Rgb, Scene, SphereSet};
 use crate::shapes::{Cuboid, Plane, Shape, Sphere, Triangle};
 use gridrt_bbox::Vec3;
+use std::sync::Arc;
 
 /// The largest image, in pixels, the renderer accepts (8192 × 8192).
 pub const MAX_PIXELS: u64 = 1 << 26;
@@ -18,6 +19,9 @@ pub const MAX_PIXELS: u64 = 1 << 26;
 #[derive(Debug)]
 pub(crate) enum Prims {
     Spheres(Vec<Sphere>),
+    /// A scene's only primitives: one sphere set, shared with the scene
+    /// (the grid copies each sphere once, straight into cell order).
+    Set(Arc<SphereSet>),
     Shapes(Vec<Shape>),
 }
 
@@ -25,6 +29,7 @@ impl Prims {
     pub(crate) fn len(&self) -> usize {
         match self {
             Prims::Spheres(v) => v.len(),
+            Prims::Set(s) => s.spheres.len(),
             Prims::Shapes(v) => v.len(),
         }
     }
@@ -526,6 +531,26 @@ fn convert(
             data.plane_material.push(o.material);
         }
     }
+    // A scene whose primitives are all one sphere set's: the set as it is.
+    let mut sources = scene.objects.iter().filter(|o| match &o.geometry {
+        Geometry::Sphere { .. } => true,
+        Geometry::Spheres(set) => !set.spheres.is_empty(),
+        _ => false,
+    });
+    if let (true, Some(o), None) = (all_spheres, sources.next(), sources.next()) {
+        if let Geometry::Spheres(set) = &o.geometry {
+            if sample_lights {
+                for (k, &sp) in set.spheres.iter().enumerate() {
+                    add_emitter(data, k, &Shape::Sphere(sp), o.material);
+                }
+            }
+            data.prim_material = PrimMaterials::Uniform(o.material);
+            if !set.colors.is_empty() {
+                data.prim_albedo = PrimColors::Set(Arc::clone(set));
+            }
+            return Prims::Set(Arc::clone(set));
+        }
+    }
     let prims = if all_spheres {
         let mut spheres: Vec<Sphere> = Vec::with_capacity(count);
         for o in &scene.objects {
@@ -607,7 +632,7 @@ fn convert(
         Some(m) => PrimMaterials::Uniform(m),
         None => PrimMaterials::PerPrim(per_prim),
     };
-    data.prim_albedo = albedos;
+    data.prim_albedo = PrimColors::Own(albedos);
     prims
 }
 
@@ -634,8 +659,9 @@ mod tests {
         let Geometry::Spheres(set) = &scene.objects[0].geometry else {
             panic!("the benchmark is one sphere set");
         };
-        assert_eq!(p.data.prim_albedo, set.colors);
-        assert!(matches!(&p.prims, Prims::Spheres(v) if *v == set.spheres));
+        assert_eq!(*p.data.prim_albedo, set.colors);
+        // The set itself, shared with the scene: no copy.
+        assert!(matches!(&p.prims, Prims::Set(s) if Arc::ptr_eq(s, set)));
     }
 
     #[test]
@@ -668,7 +694,7 @@ mod tests {
         let mut want = vec![red];
         want.extend_from_slice(&set.colors);
         want.extend([red; 3]);
-        assert_eq!(p.data.prim_albedo, want);
+        assert_eq!(*p.data.prim_albedo, want);
         let mut ids = vec![1];
         ids.extend([0; 5]);
         ids.extend([1; 3]);

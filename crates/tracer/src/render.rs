@@ -192,6 +192,20 @@ impl Renderer {
                 let (a, s) = build_accel(v, options, parallel);
                 (Accel::Spheres(a), s)
             }
+            Prims::Set(set) => {
+                let (a, s) = match grid_config(options, parallel) {
+                    Some(config) => {
+                        let grid = Grid::build_from_slice(&set.spheres, &config);
+                        let stats = grid.stats().clone();
+                        (AccelOf::Grid(grid), Some(stats))
+                    }
+                    None => (
+                        AccelOf::Exhaustive(Exhaustive::new(set.spheres.clone())),
+                        None,
+                    ),
+                };
+                (Accel::Spheres(a), s)
+            }
             Prims::Shapes(v) => {
                 let (a, s) = build_accel(v, options, parallel);
                 (Accel::Shapes(a), s)
