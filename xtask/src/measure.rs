@@ -24,7 +24,7 @@ pub fn timed<R>(f: impl FnOnce() -> R) -> (R, Duration) {
 pub struct GridRun {
     /// `suffern::sphere_set`.
     pub generate: Duration,
-    /// `Renderer::with_spheres` (validation, conversion, grid build).
+    /// `Renderer::new` (validation, conversion, grid build).
     pub build: Duration,
     /// `Renderer::render` (trace and shade every pixel).
     pub render: Duration,
@@ -50,10 +50,11 @@ fn options(accel: AccelKind, grid: GridConfig, threads: usize) -> RenderOptions 
 /// # Errors
 /// The renderer's error as text (none expected for this scene).
 pub fn grid_run(n: usize, config: GridConfig, threads: usize) -> Result<GridRun, String> {
-    let base = suffern::base_scene();
-    let (set, generate) = timed(|| suffern::sphere_set_threads(n, DEFAULT_SEED, threads));
+    let (scene, generate) =
+        timed(|| suffern::scene_of(suffern::sphere_set_threads(n, DEFAULT_SEED, threads)));
     let (renderer, build) =
-        timed(|| Renderer::with_spheres(&base, set, &options(AccelKind::Grid, config, threads)));
+        timed(|| Renderer::new(&scene, &options(AccelKind::Grid, config, threads)));
+    drop(scene);
     let renderer = renderer.map_err(|e| e.to_string())?;
     let never = AtomicBool::new(false);
     let (out, render) = timed(|| renderer.render(&|_, _| {}, &never));
@@ -96,7 +97,7 @@ pub fn trace_only(
 /// One exhaustive run over all rows or some of them.
 #[derive(Debug)]
 pub struct ExhaustiveRun {
-    /// `Renderer::with_spheres` with `AccelKind::Exhaustive`.
+    /// `Renderer::new` with `AccelKind::Exhaustive`.
     pub build: Duration,
     /// Rendering the rows.
     pub render: Duration,
@@ -116,14 +117,14 @@ pub fn exhaustive_run(
     threads: usize,
     rows: Option<&[u32]>,
 ) -> Result<ExhaustiveRun, String> {
-    let base = suffern::base_scene();
-    let (width, height) = (base.settings.width, base.settings.height);
+    let scene = suffern::scene(n);
+    let (width, height) = (scene.settings.width, scene.settings.height);
     if let Some(&y) = rows.and_then(|r| r.iter().find(|&&y| y >= height)) {
         return Err(format!("row {y} is outside an image {height} rows high"));
     }
-    let set = suffern::sphere_set(n, DEFAULT_SEED);
     let opts = options(AccelKind::Exhaustive, GridConfig::default(), threads);
-    let (renderer, build) = timed(|| Renderer::with_spheres(&base, set, &opts));
+    let (renderer, build) = timed(|| Renderer::new(&scene, &opts));
+    drop(scene);
     let renderer = renderer.map_err(|e| e.to_string())?;
     let never = AtomicBool::new(false);
     let (out, render) = timed(|| match rows {

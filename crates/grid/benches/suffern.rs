@@ -5,13 +5,10 @@
 //! `cargo bench -p gridrt-grid --bench suffern` runs the default set. The
 //! environment variable `SUFFERN` selects parts, comma-separated:
 //! `spheres` (N = 1e3…1e6), `mesh` (1,024,000 triangles), `bunny`,
-//! `copies` (spheres copied into cell order), `sorted`, `sweep` (m and
-//! storage sweep), `mailbox`, `meshnest` (nested grids on the mesh),
-//! `meshcopies` (the mesh copied into cell order, flat and nested),
-//! `meshshadow` (any-hit shadow rays on the mesh, with and without nesting),
+//! `sorted`, `sweep` (m and storage sweep), `mailbox`, `meshnest` (nested
+//! grids on the mesh), `meshshadow` (any-hit shadow rays on the mesh, with and without nesting),
 //! `meshprofile` (only the mesh trace, repeated, for a profiler),
-//! `buildprofile` (only the one-thread build, repeated, for a profiler;
-//! `COPIES=1` builds with copies),
+//! `buildprofile` (only the one-thread build, repeated, for a profiler),
 //! `exhaustive`. `SUFFERN_N` overrides the list of N, `SUFFERN_M` the grid
 //! multiplier, `SUFFERN_NEST` the nesting threshold and `SUFFERN_NEST_M`
 //! the nested grids' multiplier of the base configuration; `SUFFERN_MB`
@@ -312,29 +309,15 @@ fn main() {
     }
     if has("buildprofile") {
         // Only the one-thread build, repeated, for a profiler.
-        let copies = std::env::var("COPIES").is_ok();
-        let build = if copies {
-            Grid::build_with_copies
-        } else {
-            Grid::build
-        };
         for &n in &ns() {
             let s = scenes::suffern_spheres(n);
-            let best = best_seq_build(&s, &base, 20, build);
-            println!(
-                "# build profile N={n}{}: {:.2} ms (best of 20)",
-                if copies { ", copies" } else { "" },
-                ms(best)
-            );
+            let best = best_seq_build(&s, &base, 20, Grid::build);
+            println!("# build profile N={n}: {:.2} ms (best of 20)", ms(best));
         }
     }
     if has("meshprofile") {
         let tris = scenes::uv_sphere_mesh(&scenes::suffern_spheres(1000), 32, 17);
-        let g = if std::env::var("COPIES").is_ok() {
-            Grid::build_with_copies(tris, &base)
-        } else {
-            Grid::build(tris, &base)
-        };
+        let g = Grid::build(tris, &base);
         let reps = std::env::var("REPS")
             .ok()
             .and_then(|s| s.parse().ok())
@@ -398,14 +381,6 @@ fn main() {
             }
         }
     }
-    if has("copies") {
-        // The spheres copied into cell order (`Grid::build_with_copies`).
-        for &n in &ns() {
-            let s = scenes::suffern_spheres(n);
-            let r = measure_with(&s, &rays, &base, 5, Grid::build_with_copies);
-            print_row(&format!("copies{n}"), &base, &r);
-        }
-    }
     if has("sweep") {
         for &n in &ns() {
             let s = scenes::suffern_spheres(n);
@@ -454,28 +429,6 @@ fn main() {
                     print_row("mesh", &c, &measure(&tris, &rays, &c, 5));
                 }
             }
-        }
-    }
-    if has("meshcopies") {
-        // The mesh with its triangles copied into cell order: the flat grid
-        // at the default `m`, and nested grids at the coarser `m` that suits them.
-        let tris = scenes::uv_sphere_mesh(&scenes::suffern_spheres(1000), 32, 17);
-        for (m, nest_min_refs) in [(base.m, 0), (0.5, 8)] {
-            let c = GridConfig {
-                m,
-                nest_min_refs,
-                ..base
-            };
-            let r = measure_with(&tris, &rays, &c, 5, Grid::build_with_copies);
-            print_row(
-                if nest_min_refs == 0 {
-                    "meshcopy"
-                } else {
-                    "nestcopy8"
-                },
-                &c,
-                &r,
-            );
         }
     }
     if has("meshnest") {

@@ -13,9 +13,16 @@ pub struct PrimHit {
     pub v: Real,
 }
 
-/// The answer of an accelerator's closest-hit query: the primitive's hit and
-/// the primitive's index in the accelerator's primitive slice.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// The answer of an accelerator's closest-hit query: the primitive's hit,
+/// the primitive's index (its place in the order the accelerator was given
+/// the primitives) and its slot (its place in the accelerator's own storage,
+/// [`Accelerator::primitives`]).
+///
+/// Two hits are equal when they name the same primitive at the same point:
+/// the slot says where one accelerator keeps the primitive and is left out
+/// of the comparison (a grid stores its primitives in cell order, the
+/// exhaustive accelerator in the given order).
+#[derive(Clone, Copy, Debug)]
 pub struct Hit {
     /// Ray parameter of the hit, in units of `ray.dir`.
     pub t: Real,
@@ -23,20 +30,31 @@ pub struct Hit {
     pub u: Real,
     /// Second surface parameter, as the primitive reported it.
     pub v: Real,
-    /// Index of the primitive that was hit.
+    /// Index of the primitive that was hit, in the order the accelerator
+    /// was given the primitives.
     pub prim: u32,
+    /// Where the accelerator stores that primitive:
+    /// `accel.primitives()[slot]` is the primitive hit.
+    pub slot: u32,
+}
+
+impl PartialEq for Hit {
+    fn eq(&self, other: &Self) -> bool {
+        (self.t, self.u, self.v, self.prim) == (other.t, other.u, other.v, other.prim)
+    }
 }
 
 impl Hit {
-    /// Combines a primitive's hit with the primitive's index.
+    /// Combines a primitive's hit with the primitive's index and slot.
     #[inline]
     #[must_use]
-    pub fn new(h: PrimHit, prim: u32) -> Self {
+    pub fn new(h: PrimHit, prim: u32, slot: u32) -> Self {
         Self {
             t: h.t,
             u: h.u,
             v: h.v,
             prim,
+            slot,
         }
     }
 
@@ -200,8 +218,13 @@ pub trait Accelerator: Sync {
     /// Fresh working memory for one thread's queries.
     fn scratch(&self) -> Self::Scratch;
 
-    /// The primitives, in the order their indices refer to.
+    /// The primitives, in the accelerator's storage order ([`Hit::slot`]
+    /// indexes it): the given order for the exhaustive accelerator, cell
+    /// order for a grid.
     fn primitives(&self) -> &[Self::Prim];
+
+    /// The primitive index (the given order) of the primitive in `slot`.
+    fn primitive_id(&self, slot: u32) -> u32;
 
     /// The nearest hit with `t` in `[t_min, t_max]`.
     fn closest_hit(

@@ -44,9 +44,9 @@ pub(crate) struct Built {
     pub spread: [Box<[u64]>; 3],
     pub occupied: u64,
     pub max_refs: u32,
-    /// Empty, or (when the build was asked to renumber) the primitive of
-    /// each slot: `refs` then hold slots, numbered in the order the
-    /// primitives first appear in the references.
+    /// The primitive of each slot of a gridded primitive: `refs` hold
+    /// slots, numbered in the order the primitives first appear in the
+    /// references (cell order).
     pub ids: Box<[u32]>,
 }
 
@@ -66,14 +66,9 @@ fn gridded(b: &Aabb) -> Option<(Lanes, Lanes)> {
         .then_some((min, max))
 }
 
-/// Builds the cell structure for `prims`; with `renumber`, the references
-/// hold slots instead of primitive indices (see [`Built::ids`]).
-pub(crate) fn build<P: Primitive>(
-    prims: &[P],
-    config: &GridConfig,
-    renumber: bool,
-    budget: usize,
-) -> Built {
+/// Builds the cell structure for `prims`; the references hold slots (see
+/// [`Built::ids`]).
+pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig, budget: usize) -> Built {
     let parallel = config.parallel_build;
     let n = prims.len();
     // Phase 1: the union of the finite boxes, and the primitives that cannot be gridded.
@@ -160,7 +155,7 @@ pub(crate) fn build<P: Primitive>(
     loop {
         let mut g = Geom::new(bounds, dims);
         g.slab = config.slab;
-        match build_cells(prims, &g, config, ref_limit, renumber, unbounded.is_empty()) {
+        match build_cells(prims, &g, config, ref_limit, unbounded.is_empty()) {
             Some(((cells, refs, spread, occupied, max_refs), ids)) => {
                 return Built {
                     geom: g,
@@ -251,11 +246,10 @@ fn build_cells<P: Primitive>(
     g: &Geom,
     config: &GridConfig,
     ref_limit: u64,
-    renumber: bool,
     all_gridded: bool,
 ) -> Option<(CellsOut, Box<[u32]>)> {
     if config.storage == CellStorage::Dense {
-        return crate::compact::build_dense(prims, g, config, ref_limit, renumber, all_gridded);
+        return crate::compact::build_dense(prims, g, config, ref_limit, all_gridded);
     }
     let spread: [Box<[u64]>; 3] = std::array::from_fn(|a| {
         (0..g.dims[a])
@@ -271,11 +265,7 @@ fn build_cells<P: Primitive>(
     } else {
         build_pairs::<P, Wide>(prims, g, config, ref_limit, spread, key_bits, all_gridded)
     }?;
-    let ids = if renumber {
-        first_seen(&mut out.1, prims.len())
-    } else {
-        Box::new([])
-    };
+    let ids = first_seen(&mut out.1, prims.len());
     Some((out, ids))
 }
 

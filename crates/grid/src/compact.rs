@@ -49,9 +49,9 @@ fn record(prim: u32, code: u64, base: usize) -> Record {
 }
 
 /// Builds dense offsets and references; `None` past `ref_limit` references.
-/// With `renumber` the records are sorted by their first cell exactly, the
-/// references are record positions (slots) instead of primitive indices,
-/// and the last element of the result is the primitive of each slot.
+/// The records are sorted by their first cell exactly, the references are
+/// record positions (slots), and the last element of the result is the
+/// primitive of each slot.
 /// `all_gridded`: every primitive's box is known to be finite (the bounds
 /// pass saw no other), so the ranges pass need not check again.
 pub(crate) fn build_dense<P: Primitive>(
@@ -59,7 +59,6 @@ pub(crate) fn build_dense<P: Primitive>(
     g: &Geom,
     config: &GridConfig,
     ref_limit: u64,
-    renumber: bool,
     all_gridded: bool,
 ) -> Option<(CellsOut, Box<[u32]>)> {
     let parallel = config.parallel_build;
@@ -150,7 +149,7 @@ pub(crate) fn build_dense<P: Primitive>(
             parallel,
             counted,
         );
-        if renumber && shift > 0 {
+        if shift > 0 {
             sort_runs(&mut ranges, shift, parallel);
         }
     }
@@ -256,8 +255,7 @@ pub(crate) fn build_dense<P: Primitive>(
         });
         map_slabs(work, parallel, |(slab, offs, out, base)| {
             let lo = slab.z0 * nxy;
-            for_each_ref(prims, g, ranges, slab, exact, true, |visit, p, slot| {
-                let v = if renumber { slot } else { p };
+            for_each_ref(prims, g, ranges, slab, exact, true, |visit, _, v| {
                 match visit {
                     Visit::Cell(c) => {
                         let o = &mut offs[c - lo];
@@ -277,11 +275,8 @@ pub(crate) fn build_dense<P: Primitive>(
             });
         });
     }
-    let ids = if renumber {
-        crate::par::map_range(ranges.len(), parallel, |i| ranges[i] as u32).into_boxed_slice()
-    } else {
-        Box::new([])
-    };
+    let ids =
+        crate::par::map_range(ranges.len(), parallel, |i| ranges[i] as u32).into_boxed_slice();
     Some((
         (
             crate::build::Cells::Dense {

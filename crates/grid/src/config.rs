@@ -102,9 +102,8 @@ pub struct GridConfig {
     /// An explicit `nest_min_refs` wins; `auto: false` with
     /// `nest_min_refs: 0` is the flat grid.
     pub auto: bool,
-    /// The most bytes the grid's index may take ([`GridStats::bytes`]
-    /// without the copies of [`crate::Grid::build_with_copies`]): cells,
-    /// references, maps and nested grids. `None`: [`DEFAULT_BUDGET_FACTOR`]
+    /// The most bytes the grid's index may take ([`GridStats::bytes`]):
+    /// cells, references, slot ids, maps and nested grids. `None`: [`DEFAULT_BUDGET_FACTOR`]
     /// times the primitives' own size (`n · size_of::<P>()`), and at least
     /// [`MIN_BUDGET`]. The flat grid's cells and references are capped to
     /// fit it, and the nested grids take only what is left: reaching the

@@ -94,7 +94,7 @@ impl<P: Primitive> Exhaustive<P> {
                 &mut |r, h| {
                     // Strictly nearer only: on a tie in t the earlier (lower) index stays.
                     if best.is_none_or(|b| h.t < b.t) {
-                        best = Some(Hit::new(h, base + r));
+                        best = Some(Hit::new(h, base + r, base + r));
                         t_far = h.t;
                     }
                     t_far
@@ -132,6 +132,10 @@ impl<P: Primitive> Accelerator for Exhaustive<P> {
 
     fn primitives(&self) -> &[P] {
         &self.prims
+    }
+
+    fn primitive_id(&self, slot: u32) -> u32 {
+        slot
     }
 
     /// The nearest hit over all primitives; an empty or NaN range gives `None`.

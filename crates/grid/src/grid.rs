@@ -13,10 +13,12 @@ use std::time::Instant;
 mod check;
 mod lookup;
 mod query;
+mod slots;
 
 use lookup::{DenseLookup, HashedLookup};
 
-use query::{prim_id, AnyHit, Closest};
+use query::{AnyHit, Closest};
+use slots::{reorder, slot_order};
 
 /// `closest_hit` stops after a cell only if the best hit lies before the
 /// cell's exit by more than this fraction of `|t_exit|` (a few ulps): a hit
@@ -37,23 +39,30 @@ pub(crate) const EXIT_MARGIN: Real = 8.0 * Real::EPSILON;
 /// Primitives whose box is not finite (NaN, infinite or empty) are kept
 /// outside the cells and tested by every query.
 ///
+/// The grid owns one array of its primitives, reordered once at build time
+/// into cell order (by the first cell, in storage order, that references
+/// each; pbrt-v4's `BVHAggregate` swaps in its `orderedPrims` the same
+/// way), so that the primitives of neighbouring cells lie in neighbouring
+/// memory; beside it, the primitive index of each slot. The references name
+/// slots; hits name primitive indices (the given order), and ties go to the
+/// lower primitive index, exactly as in [`crate::Exhaustive`].
+///
 /// The grid is immutable after [`Grid::build`] and `Sync`; per-query working
 /// memory (the mailbox) is the caller's [`GridScratch`].
 #[derive(Clone, Debug)]
 pub struct Grid<P> {
+    /// The primitives in slot order: the gridded ones in the order in
+    /// which the cells, in storage order, first reference them, then the
+    /// unbounded ones.
     prims: Vec<P>,
     config: GridConfig,
     geom: Geom,
     cells: Cells,
-    /// The cells' references: primitive indices, or slots when the grid
-    /// keeps copies.
+    /// The cells' references: slots.
     refs: Box<[u32]>,
-    /// Empty, or (built by [`Grid::build_with_copies`]) a copy of each
-    /// gridded primitive in slot order: the order in which the cells, in
-    /// storage order, first reference them.
-    copies: Box<[P]>,
-    /// The primitive index of each slot (empty without copies).
+    /// The primitive index of each slot.
     ids: Box<[u32]>,
+    /// The slots of the primitives kept outside the cells.
     unbounded: Box<[u32]>,
     spread: [Box<[u64]>; 3],
     blocks: BlockMap,
@@ -63,10 +72,6 @@ pub struct Grid<P> {
     nested: Nested,
     stats: GridStats,
 }
-
-/// How [`Grid::build_with_copies`] gathers the copies: from the primitives
-/// and the primitive of each slot.
-type Gather<P> = Box<dyn FnOnce(&[P], &[u32]) -> Box<[P]>>;
 
 /// Per-thread working memory of grid queries: the mailbox, one stamp per
 /// primitive holding the id of the last query that tested it, and the
@@ -157,8 +162,8 @@ macro_rules! with_lookup {
 }
 
 impl<P: Primitive> Grid<P> {
-    /// Builds a grid over `prims` (which it keeps; their order defines the
-    /// primitive indices of hits).
+    /// Builds a grid over `prims` (which it keeps, reordered into cell
+    /// order; their given order defines the primitive indices of hits).
     ///
     /// Never fails: an empty scene gives a grid with no cells, degenerate
     /// extents (a flat scene, one object, all objects at one point) give
@@ -171,13 +176,45 @@ impl<P: Primitive> Grid<P> {
     /// If there are more than `u32::MAX` primitives (hits name primitives by
     /// a `u32`).
     #[must_use]
-    pub fn build(prims: Vec<P>, config: &GridConfig) -> Self {
-        Self::assemble(prims, config, None)
+    pub fn build(prims: Vec<P>, config: &GridConfig) -> Self
+    where
+        P: Send,
+    {
+        let (start, budget, b) = Self::index(&prims, config);
+        let parallel = config.parallel_build;
+        Self::assemble(start, budget, b, prims.len(), config, |ids| {
+            reorder(prims, ids, parallel)
+        })
     }
 
-    /// The build; `copy` (given for [`Grid::build_with_copies`]) gathers
-    /// the copies, given the primitives and the primitive of each slot.
-    fn assemble(prims: Vec<P>, config: &GridConfig, copy: Option<Gather<P>>) -> Self {
+    /// [`Grid::build`] over primitives the caller keeps (a scene's shared
+    /// array): each primitive is cloned once, straight into its slot, with
+    /// no copy in the given order on the way.
+    ///
+    /// # Panics
+    ///
+    /// As [`Grid::build`].
+    #[must_use]
+    pub fn build_from_slice(prims: &[P], config: &GridConfig) -> Self
+    where
+        P: Clone + Send,
+    {
+        let (start, budget, b) = Self::index(prims, config);
+        let parallel = config.parallel_build;
+        Self::assemble(start, budget, b, prims.len(), config, |ids| {
+            crate::par::map_range(ids.len(), parallel, |s| {
+                // The reads jump around: ask for a primitive some slots ahead.
+                if let Some(&p) = ids.get(s + 32) {
+                    crate::mem::prefetch(&prims[p as usize]);
+                }
+                prims[ids[s] as usize].clone()
+            })
+        })
+    }
+
+    /// The cells and references over `prims`, with the build's start and
+    /// memory budget.
+    fn index(prims: &[P], config: &GridConfig) -> (Instant, usize, build::Built) {
         assert!(
             u32::try_from(prims.len()).is_ok(),
             "at most u32::MAX primitives"
@@ -187,17 +224,29 @@ impl<P: Primitive> Grid<P> {
         let budget = config
             .budget_for(n, std::mem::size_of::<P>())
             .max(Self::min_budget(n));
-        let b = build::build(&prims, config, copy.is_some(), budget);
-        let copies = copy.map_or_else(|| Box::new([]) as Box<[P]>, |f| f(&prims, &b.ids));
+        (start, budget, build::build(prims, config, budget))
+    }
+
+    /// The grid from its index `b` over `n` primitives; `order` gives the
+    /// primitives in slot order, given the primitive of each slot.
+    fn assemble(
+        start: Instant,
+        budget: usize,
+        b: build::Built,
+        n: usize,
+        config: &GridConfig,
+        order: impl FnOnce(&[u32]) -> Vec<P>,
+    ) -> Self {
+        let (ids, unbounded) = slot_order(b.ids, &b.unbounded, n);
+        let prims = order(&ids);
         let mut grid = Self {
             prims,
             config: *config,
             geom: b.geom,
             cells: b.cells,
             refs: b.refs,
-            copies,
-            ids: b.ids,
-            unbounded: b.unbounded,
+            ids,
+            unbounded,
             spread: b.spread,
             blocks: BlockMap::default(),
             occ: Box::new([]),
@@ -217,7 +266,7 @@ impl<P: Primitive> Grid<P> {
             pad: grid.geom.pad,
             slab: config.slab,
         };
-        let nested = Nested::build(grid.slots(), &grid.geom, &grid.refs, crowded, &params);
+        let nested = Nested::build(&grid.prims, &grid.geom, &grid.refs, crowded, &params);
         grid.nested = nested;
         let build_time = start.elapsed();
         let cells = grid.geom.cell_count();
@@ -237,7 +286,7 @@ impl<P: Primitive> Grid<P> {
                 grid.refs.len() as f64 / b.occupied as f64
             },
             max_refs_per_cell: b.max_refs,
-            bytes: grid.index_bytes() + std::mem::size_of_val(&*grid.copies),
+            bytes: grid.index_bytes(),
             table_bytes,
             unbounded_prims: grid.unbounded.len() as u64,
             nested_cells: grid.nested.subs.len() as u64,
@@ -253,14 +302,13 @@ impl<P: Primitive> Grid<P> {
         grid
     }
 
-    /// What the references index: the copies, or the primitives.
     /// The smallest memory budget a grid over `n` primitives is given: one
     /// cell holding each primitive once, its maps and some slack.
     fn min_budget(n: usize) -> usize {
         16 * n + 4096
     }
 
-    /// Heap bytes of the grid's index: everything but the copies.
+    /// Heap bytes of the grid's index: everything but the primitives.
     fn index_bytes(&self) -> usize {
         let table_bytes = match &self.cells {
             Cells::Empty => 0,
@@ -312,14 +360,6 @@ impl<P: Primitive> Grid<P> {
         }
     }
 
-    fn slots(&self) -> &[P] {
-        if self.copies.is_empty() {
-            &self.prims
-        } else {
-            &self.copies
-        }
-    }
-
     /// Numbers describing the grid (dimensions, occupancy, memory, build time).
     #[must_use]
     pub fn stats(&self) -> &GridStats {
@@ -345,22 +385,35 @@ impl<P: Primitive> Grid<P> {
         &self.config
     }
 
-    /// The primitives, in index order.
+    /// The primitives in slot order (cell order; see [`Grid`]):
+    /// [`Hit::slot`] and the references of [`Grid::visit_cells`] index it.
     #[must_use]
     pub fn primitives(&self) -> &[P] {
         &self.prims
     }
 
-    /// Gives the primitives back, in their original order.
+    /// The primitive index of each slot.
     #[must_use]
-    pub fn into_primitives(self) -> Vec<P> {
-        self.prims
+    pub fn primitive_ids(&self) -> &[u32] {
+        &self.ids
     }
 
-    /// Indices of the primitives kept outside the cells (non-finite boxes).
+    /// Gives the primitives back, in their given order.
     #[must_use]
-    pub fn unbounded_primitives(&self) -> &[u32] {
-        &self.unbounded
+    pub fn into_primitives(self) -> Vec<P> {
+        let mut v: Vec<(u32, P)> = self.ids.iter().copied().zip(self.prims).collect();
+        v.sort_unstable_by_key(|&(id, _)| id);
+        v.into_iter().map(|(_, p)| p).collect()
+    }
+
+    /// Indices of the primitives kept outside the cells (non-finite
+    /// boxes), ascending.
+    #[must_use]
+    pub fn unbounded_primitives(&self) -> Vec<u32> {
+        self.unbounded
+            .iter()
+            .map(|&s| self.ids[s as usize])
+            .collect()
     }
 
     /// The box of cell `index` (without the insertion pad); `None` outside the grid.
@@ -383,11 +436,14 @@ impl<P: Primitive> Grid<P> {
     }
 
     /// The primitive index of a reference as [`Grid::visit_cells`] hands
-    /// it out: the reference itself, or for a grid with copies
-    /// ([`Grid::build_with_copies`]) the primitive of that slot.
+    /// it out (a slot).
+    ///
+    /// # Panics
+    ///
+    /// If `reference` is not a slot of this grid.
     #[must_use]
     pub fn primitive_of(&self, reference: u32) -> u32 {
-        prim_id(&self.ids, reference)
+        self.ids[reference as usize]
     }
 
     /// The occupancy of blocks of cells, for skipping empty space.
@@ -487,7 +543,7 @@ impl<P: Primitive> Grid<P> {
     /// order, with the cell's visit and its references (empty for an
     /// unoccupied cell), until `f` returns `ControlFlow::Break`. The same
     /// walk as [`Grid::cells_along`], with the cell lookup done. References
-    /// are primitive indices, except in a grid with copies, where
+    /// are slots: [`Grid::primitives`] indexes them and
     /// [`Grid::primitive_of`] maps them to primitive indices.
     pub fn visit_cells<B>(
         &self,
@@ -549,7 +605,7 @@ impl<P: Primitive> Grid<P> {
             return None;
         }
         let mut q = Closest::<P, C, MB> {
-            prims: self.slots(),
+            prims: &self.prims,
             ids: &self.ids,
             refs: &self.refs,
             children: &self.nested.root,
@@ -563,7 +619,7 @@ impl<P: Primitive> Grid<P> {
             counters,
         };
         for &p in self.unbounded.iter() {
-            q.test_prim(|| p, &self.prims[p as usize]);
+            q.test(p);
         }
         let Some(dda) = Dda::new(&self.geom, ray, t_min, t_max) else {
             return q.best;
@@ -604,7 +660,7 @@ impl<P: Primitive> Grid<P> {
             return false;
         };
         let mut q = AnyHit::<P, C, MB> {
-            prims: self.slots(),
+            prims: &self.prims,
             refs: &self.refs,
             children: &self.nested.root,
             subs: &self.nested.subs,
@@ -624,75 +680,6 @@ impl<P: Primitive> Grid<P> {
         } else {
             with_lookup!(self, l => dda.walk(&l, &mut q), ControlFlow::Continue(())).is_break()
         }
-    }
-}
-
-impl<P: Primitive + Clone + Send> Grid<P> {
-    /// Like [`Grid::build`], and also stores a copy of every gridded
-    /// primitive in cell order (by the first cell that references it), so
-    /// that primitives near each other in space lie near each other in
-    /// memory; the references then name copies (slots), and hits are mapped
-    /// back to primitive indices. A query reads a cell's primitives from a
-    /// few neighbouring cache lines instead of jumping to wherever the scene
-    /// order put them: for small primitives in large scenes (a million
-    /// spheres in random order) most of a query's time is those cache
-    /// misses. It costs one copy and one index per primitive (in
-    /// [`GridStats::bytes`]), an exact sort by first cell, and one gather
-    /// at build time (in parallel when the configuration allows). Answers
-    /// are identical with and without, ties included (they are decided by
-    /// primitive index, not slot).
-    ///
-    /// ```
-    /// use gridrt_grid::{Aabb, Accelerator, Grid, GridConfig, PrimHit, Primitive, Ray, Real, Vec3};
-    /// # #[derive(Clone)]
-    /// # struct Ball(Vec3, Real);
-    /// # impl Primitive for Ball {
-    /// #     fn bounds(&self) -> Aabb {
-    /// #         Aabb::new(self.0 - Vec3::splat(self.1), self.0 + Vec3::splat(self.1))
-    /// #     }
-    /// #     fn closest_hit(&self, ray: &Ray, t0: Real, t1: Real) -> Option<PrimHit> {
-    /// #         let oc = ray.origin - self.0;
-    /// #         let (a, b, c) = (ray.dir.dot(ray.dir), oc.dot(ray.dir), oc.dot(oc) - self.1 * self.1);
-    /// #         let disc = b * b - a * c;
-    /// #         if disc < 0.0 {
-    /// #             return None;
-    /// #         }
-    /// #         let s = disc.sqrt();
-    /// #         [(-b - s) / a, (-b + s) / a].into_iter().find(|t| (t0..=t1).contains(t)).map(|t| PrimHit { t, u: 0.0, v: 0.0 })
-    /// #     }
-    /// # }
-    /// // `Ball` is the sphere of the crate example.
-    /// let spheres: Vec<Ball> = (0..100).map(|i| Ball(Vec3::new(i as Real, 0.0, 0.0), 0.4)).collect();
-    /// let plain = Grid::build(spheres.clone(), &GridConfig::default());
-    /// let fast = Grid::build_with_copies(spheres, &GridConfig::default());
-    /// let ray = Ray::new(Vec3::new(-5.0, 0.1, 0.0), Vec3::X);
-    /// let a = plain.closest_hit(&ray, 0.0, Real::INFINITY, &mut plain.scratch());
-    /// let b = fast.closest_hit(&ray, 0.0, Real::INFINITY, &mut fast.scratch());
-    /// assert_eq!(a, b);
-    /// assert_eq!(b.unwrap().prim, 0);
-    /// assert!(fast.stats().bytes > plain.stats().bytes);
-    /// ```
-    ///
-    /// # Panics
-    ///
-    /// As [`Grid::build`].
-    #[must_use]
-    pub fn build_with_copies(prims: Vec<P>, config: &GridConfig) -> Self {
-        let parallel = config.parallel_build;
-        Self::assemble(
-            prims,
-            config,
-            Some(Box::new(move |prims: &[P], ids: &[u32]| {
-                crate::par::map_range(ids.len(), parallel, |i| {
-                    // The reads jump around: ask for a primitive some slots ahead.
-                    if let Some(&p) = ids.get(i + 32) {
-                        crate::mem::prefetch(&prims[p as usize]);
-                    }
-                    prims[ids[i] as usize].clone()
-                })
-                .into_boxed_slice()
-            })),
-        )
     }
 }
 
@@ -718,6 +705,11 @@ impl<P: Primitive> Accelerator for Grid<P> {
     }
 
     #[inline]
+    fn primitive_id(&self, slot: u32) -> u32 {
+        self.ids[slot as usize]
+    }
+
+    #[inline]
     fn closest_hit(
         &self,
         ray: &Ray,
@@ -735,13 +727,6 @@ impl<P: Primitive> Accelerator for Grid<P> {
 }
 
 impl<P> Grid<P> {
-    /// Whether the grid keeps copies of its primitives in cell order
-    /// ([`Grid::build_with_copies`]).
-    #[must_use]
-    pub fn has_copies(&self) -> bool {
-        !self.copies.is_empty()
-    }
-
     /// The cell storage in use ([`GridConfig::storage`]).
     #[must_use]
     pub fn storage(&self) -> CellStorage {

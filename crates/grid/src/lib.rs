@@ -4,8 +4,9 @@
 //!
 //! **Invariants.** The grid knows primitives only through the [`Primitive`]
 //! trait (bounds, closest hit, any hit, optional exact box overlap): **no
-//! shapes, no materials, no files**. It owns its primitives and never
-//! reorders them: a hit's index is the caller's index. Both accelerators
+//! shapes, no materials, no files**. It owns its primitives, stored once in
+//! cell order, and a hit names the primitive by the caller's index
+//! ([`Hit::prim`]) and by where the grid keeps it ([`Hit::slot`]). Both accelerators
 //! implement [`Accelerator`] and return *exactly* the same answer for every
 //! query — the hit with the smallest `t` in the closed range
 //! `[t_min, t_max]`, ties going to the lower primitive index

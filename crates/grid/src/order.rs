@@ -7,12 +7,13 @@ use gridrt_bbox::Aabb;
 /// (Z-curve) order of their box centres, 10 bits per axis over the scene's
 /// box; primitives with non-finite boxes come last, in their original order.
 ///
-/// The grid never reorders the primitives it is given: hit indices must
-/// stay the caller's. But a scene whose primitives come in random order (as
-/// Suffern's random spheres do) makes every primitive test a likely cache
-/// miss once the scene outgrows the cache; building the grid over the
-/// primitives in this order (and remapping whatever the caller keeps per
-/// primitive) makes neighbours in space neighbours in memory.
+/// The grid stores its own primitives in cell order, but hit indices stay
+/// the caller's, so whatever the caller keeps per primitive (colours,
+/// materials) is still read in the scene's order; a scene whose primitives
+/// come in random order (as Suffern's random spheres do) makes those reads
+/// likely cache misses once the scene outgrows the cache. Reordering the
+/// scene in this order (and remapping what the caller keeps per primitive)
+/// makes neighbours in space neighbours in memory there too.
 ///
 /// ```
 /// use gridrt_grid::{spatial_order, Aabb, PrimHit, Primitive, Ray, Real, Vec3};

@@ -169,11 +169,11 @@ fn huge_primitives_over_a_fine_grid_stay_bounded() {
     g.check_invariants().expect("invariants");
 }
 
-/// Builds sequentially and in parallel, with and without copies, in a pool
+/// Builds sequentially and in parallel, in a pool
 /// of four workers (so the ranges come in several chunks and the dense
 /// build splits its cells into slabs, each with its own window of
 /// records), and checks that every cell holds the same primitives in the
-/// same order.
+/// same order and every primitive has the same slot.
 #[test]
 fn parallel_and_sequential_builds_agree() {
     let mut s: Vec<Shape> = scenes::suffern_spheres(40_000)
@@ -214,12 +214,9 @@ fn parallel_and_sequential_builds_agree() {
                     ..c
                 };
                 let a = Grid::build(s.clone(), &seq);
-                for b in [
-                    Grid::build(s.clone(), &par),
-                    Grid::build_with_copies(s.clone(), &seq),
-                    Grid::build_with_copies(s.clone(), &par),
-                ] {
-                    let what = (storage, exact_insertion, b.has_copies());
+                {
+                    let b = Grid::build(s.clone(), &par);
+                    let what = (storage, exact_insertion);
                     b.check_invariants().expect("invariants");
                     let (sa, sb) = (a.stats(), b.stats());
                     assert_eq!(
@@ -229,17 +226,12 @@ fn parallel_and_sequential_builds_agree() {
                     );
                     assert_eq!(sa.max_refs_per_cell, sb.max_refs_per_cell);
                     assert_eq!(a.unbounded_primitives(), b.unbounded_primitives());
+                    assert_eq!(a.primitive_ids(), b.primitive_ids(), "{what:?}");
                     let d = a.dims();
                     for k in 0..d[2] {
                         for j in 0..d[1] {
                             for i in 0..d[0] {
-                                let (mut ra, mut rb) =
-                                    (a.cell_refs([i, j, k]), b.cell_refs([i, j, k]));
-                                if b.has_copies() {
-                                    // Slot order, not primitive order.
-                                    ra.sort_unstable();
-                                    rb.sort_unstable();
-                                }
+                                let (ra, rb) = (a.cell_refs([i, j, k]), b.cell_refs([i, j, k]));
                                 assert_eq!(ra, rb, "cell {:?} {what:?}", [i, j, k]);
                             }
                         }
@@ -392,10 +384,16 @@ fn primitives_keep_their_order_and_odd_boxes_are_kept_aside() {
             },
         );
         g.check_invariants().expect("invariants");
-        assert_eq!(g.unbounded_primitives(), &[1, 2, 4]);
+        assert_eq!(g.unbounded_primitives(), [1, 2, 4]);
         assert_eq!(g.bounds(), Aabb::new(v(0.0), v(3.0)));
-        // (Debug strings: NaN != NaN.)
-        assert_eq!(format!("{:?}", g.primitives()), format!("{:?}", prims));
+        // Slot order: the gridded primitives, then the unbounded ones.
+        let ids = g.primitive_ids();
+        assert_eq!(&ids[ids.len() - 3..], &[1, 2, 4]);
+        for (slot, &p) in ids.iter().enumerate() {
+            // (Debug strings: NaN != NaN.)
+            let (a, b) = (&g.primitives()[slot], &prims[p as usize]);
+            assert_eq!(format!("{a:?}"), format!("{b:?}"));
+        }
         assert_eq!(format!("{:?}", g.into_primitives()), format!("{:?}", prims));
     }
 }
@@ -523,5 +521,40 @@ fn suffern_scene_matches_the_peers_pixel_counts() {
             })
             .collect();
         assert_eq!(scenes::checksum(&hits).0, want, "N = {n}");
+    }
+}
+
+/// A grid built from a borrowed slice (each primitive cloned into its
+/// slot) is the grid built from the vector: same slots, same cells, same
+/// answers.
+#[test]
+fn building_from_a_slice_is_building_from_the_vector() {
+    let s: Vec<Sphere> = scenes::suffern_spheres(3000);
+    for storage in [CellStorage::Dense, CellStorage::Hashed] {
+        let c = GridConfig {
+            storage,
+            ..GridConfig::default()
+        };
+        let a = Grid::build(s.clone(), &c);
+        let b = Grid::build_from_slice(&s, &c);
+        b.check_invariants().expect("invariants");
+        assert_eq!(a.primitive_ids(), b.primitive_ids());
+        assert_eq!(
+            format!("{:?}", a.primitives()),
+            format!("{:?}", b.primitives())
+        );
+        let mut rng = Lcg::new(5);
+        let (mut sa, mut sb) = (a.scratch(), b.scratch());
+        for _ in 0..200 {
+            let mut u = || rng.next_f32() as Real - 0.5;
+            let o = Vec3::new(u(), u(), 4.0);
+            let ray = Ray::new(o, Vec3::new(u(), u(), -1.0));
+            let (ha, hb) = (
+                a.closest_hit(&ray, 0.0, Real::INFINITY, &mut sa),
+                b.closest_hit(&ray, 0.0, Real::INFINITY, &mut sb),
+            );
+            assert_eq!(ha, hb);
+            assert_eq!(ha.map(|h| h.slot), hb.map(|h| h.slot));
+        }
     }
 }

@@ -1,8 +1,7 @@
 //! Property tests: on random and adversarial scenes the grid returns exactly
 //! the exhaustive answer (same primitive, bitwise-equal t, u, v) for every
 //! ray — hashed and dense, mailbox on and off, exact insertion on and off,
-//! with and without copies of the primitives in cell order,
-//! for closest hit and any hit. Case counts are modest so the suite stays fast.
+//! for closest hit and any hit (and each hit's slot holds the primitive hit). Case counts are modest so the suite stays fast.
 
 use crate::support::prims::{Shape, Sphere, Triangle};
 use crate::support::{all_configs, same, Checker};

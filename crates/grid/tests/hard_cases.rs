@@ -593,7 +593,7 @@ fn unbounded_primitives_are_tested_by_every_query() {
     s.insert(3, WithGround::Ground);
     let c = Checker::all(s);
     for g in &c.grids {
-        assert_eq!(g.unbounded_primitives(), &[3]);
+        assert_eq!(g.unbounded_primitives(), [3]);
         assert_eq!(g.stats().unbounded_prims, 1);
     }
     let mut rng = crate::support::scenes::Lcg::new(5);

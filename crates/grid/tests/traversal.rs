@@ -143,7 +143,9 @@ fn visitor_and_iterator_agree() {
             let want: Vec<CellVisit> = g.cells_along(&ray, t0, t1).collect();
             let mut got = Vec::new();
             let flow = g.visit_cells(&ray, t0, t1, |v, refs| {
-                assert_eq!(refs, g.cell_refs(v.index));
+                // References are slots; `cell_refs` names primitives.
+                let prims: Vec<u32> = refs.iter().map(|&r| g.primitive_of(r)).collect();
+                assert_eq!(prims, g.cell_refs(v.index));
                 got.push(v);
                 ControlFlow::<()>::Continue(())
             });

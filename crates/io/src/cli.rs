@@ -736,8 +736,9 @@ fn triangle_count(s: &Scene) -> usize {
 fn scene_counts(s: &Scene) -> String {
     let (mut sp, mut bx, mut pl, mut me) = (0, 0, 0, 0);
     for o in &s.objects {
-        match o.geometry {
+        match &o.geometry {
             Geometry::Sphere { .. } => sp += 1,
+            Geometry::Spheres(set) => sp += set.spheres.len(),
             Geometry::Cuboid { .. } => bx += 1,
             Geometry::Plane { .. } => pl += 1,
             Geometry::Mesh(_) => me += 1,
@@ -813,6 +814,7 @@ fn info(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
                 .grow(*center - Vec3::splat(*radius))
                 .grow(*center + Vec3::splat(*radius)),
             Geometry::Cuboid { min, max } => b.grow(*min).grow(*max),
+            Geometry::Spheres(set) => b.union(set.bounds()),
             Geometry::Plane { .. } => b,
             Geometry::Mesh(m) => m.positions.iter().fold(b, |b, p| b.grow(*p)),
         });

@@ -230,6 +230,7 @@ mod tests {
             u: 0.25,
             v: 0.5,
             prim: 7,
+            slot: 3,
         };
         assert_eq!(format_hits(&[Some(h), None]), "1.5,7,0.25,0.5\nmiss\n");
     }

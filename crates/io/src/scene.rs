@@ -15,10 +15,12 @@ use crate::schema::{
 use glam::{DMat4, DVec3};
 use gridrt_bbox::{Aabb, Real, Vec3};
 use gridrt_tracer::{
-    Camera, Geometry, Light, Material, MaterialId, Object, Projection, Scene, Settings, Textures,
+    Camera, Geometry, Light, Material, MaterialId, Object, Projection, Rgb, Scene, Settings,
+    Textures,
 };
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// The built-in default scene (RON), rendered by `gridrt` with no scene.
 pub const DEFAULT_SCENE: &str = include_str!("default_scene.ron");
@@ -583,8 +585,9 @@ impl<'a> Builder<'a> {
                 bounds,
                 material,
             } => {
-                // Without a material each sphere gets a matte material in its
-                // random colour, as in the benchmark.
+                // Without a material, one white matte material that each
+                // sphere's random colour tints, as in the benchmark; with
+                // one, the spheres take it as it is.
                 let forced = match material {
                     Some(m) => Some(self.material_id(Some(m), &what)?),
                     None => None,
@@ -605,24 +608,25 @@ impl<'a> Builder<'a> {
                     None => ([-1.0; 3], [1.0; 3]),
                 };
                 self.count_primitives(u64::from(count.0), &what)?;
-                let spheres = crate::random::spheres(count.0, *seed, radius.map(|r| r.0), lo, hi);
-                for (center, radius, color) in spheres {
-                    let material = match forced {
-                        Some(m) => m,
-                        None => {
-                            self.materials.push(Material::Matte {
-                                color,
-                                ka: 0.25,
-                                kd: 0.75,
-                            });
-                            (self.materials.len() - 1) as MaterialId
-                        }
-                    };
-                    self.objects.push(Object {
-                        geometry: Geometry::Sphere { center, radius },
-                        material,
-                    });
-                }
+                let mut set = crate::random::spheres(count.0, *seed, radius.map(|r| r.0), lo, hi);
+                let material = match forced {
+                    Some(m) => {
+                        set.colors = Vec::new();
+                        m
+                    }
+                    None => {
+                        self.materials.push(Material::Matte {
+                            color: Rgb::ONE,
+                            ka: 0.25,
+                            kd: 0.75,
+                        });
+                        (self.materials.len() - 1) as MaterialId
+                    }
+                };
+                self.objects.push(Object {
+                    geometry: Geometry::Spheres(Arc::new(set)),
+                    material,
+                });
             }
         }
         Ok(())
@@ -760,6 +764,7 @@ fn finite_bounds(objects: &[Object]) -> Aabb {
             *center + Vec3::splat(*radius),
         )),
         Geometry::Cuboid { min, max } => b.union(Aabb::new(*min, *max)),
+        Geometry::Spheres(set) => b.union(set.bounds()),
         Geometry::Plane { .. } => b,
         Geometry::Mesh(m) => m
             .triangles

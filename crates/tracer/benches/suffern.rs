@@ -5,9 +5,8 @@
 //! Before the criterion runs it prints a one-shot breakdown per N (best of a
 //! few runs): generate / build / render times, traversal vs shading, rays/s
 //! per core, and the pixels hit against the Embree peer's reference. The
-//! fast path ([`suffern::renderer`]: a sphere set, no `Object` per sphere)
-//! is what the timings use; the `Scene` path's generation time is shown
-//! beside it.
+//! scene is one object holding a sphere set ([`suffern::scene_of`]);
+//! `scene_gen_s` is [`suffern::scene`] (set and scene) on one thread.
 //!
 //! `cargo bench -p gridrt-tracer --bench suffern`
 
@@ -63,10 +62,9 @@ fn breakdown() {
         let mut grid = Duration::MAX;
         let mut renderer = None;
         for _ in 0..3 {
-            let set = suffern::sphere_set(n, suffern::DEFAULT_SEED);
+            let scene = suffern::scene_of(suffern::sphere_set(n, suffern::DEFAULT_SEED));
             let t = Instant::now();
-            let r = Renderer::with_spheres(&suffern::base_scene(), set, &one_thread())
-                .expect("valid scene");
+            let r = Renderer::new(&scene, &one_thread()).expect("valid scene");
             build = build.min(t.elapsed());
             grid = grid.min(r.grid_stats().map_or(Duration::ZERO, |g| g.build_time));
             renderer = Some(r);

@@ -170,12 +170,24 @@ pub enum SceneError {
         reason: String,
     },
     /// A sphere set has colours, but not one per sphere.
-    #[error("sphere set: {colors} colours for {spheres} spheres; give none or one per sphere")]
+    #[error("object {object}: the sphere set has {colors} colours for {spheres} spheres; give none or one per sphere")]
     SphereSetColors {
+        /// Object index.
+        object: usize,
         /// How many colours.
         colors: usize,
         /// How many spheres.
         spheres: usize,
+    },
+    /// A sphere of a sphere set is unusable.
+    #[error("object {object}: sphere {sphere} of the set: {reason}")]
+    BadSetSphere {
+        /// Object index.
+        object: usize,
+        /// The sphere's index in the set.
+        sphere: usize,
+        /// What is wrong and what to do.
+        reason: &'static str,
     },
     /// More primitives than a `u32` index can name.
     #[error(

@@ -127,13 +127,38 @@ impl PrimMaterials {
 /// Everything shading needs besides the accelerator. Primitive `i` of the
 /// accelerator has material `prim_material.get(i)`; planes come after all
 /// primitives in the tie order.
+/// The colour of each primitive: a table of its own, or a sphere set's
+/// colours, shared with the scene (the scene's only primitives).
+#[derive(Clone, Debug)]
+pub(crate) enum PrimColors {
+    Own(Vec<Rgb>),
+    Set(std::sync::Arc<crate::SphereSet>),
+}
+
+impl Default for PrimColors {
+    fn default() -> Self {
+        Self::Own(Vec::new())
+    }
+}
+
+impl std::ops::Deref for PrimColors {
+    type Target = [Rgb];
+    #[inline]
+    fn deref(&self) -> &[Rgb] {
+        match self {
+            Self::Own(v) => v,
+            Self::Set(s) => &s.colors,
+        }
+    }
+}
+
 #[derive(Clone, Debug, Default)]
 pub(crate) struct SceneData {
     pub materials: Vec<Material>,
     pub prim_material: PrimMaterials,
     /// Empty, or one colour per primitive that replaces the albedo (`color`)
     /// of its Matte, Phong or Reflective material (a sphere set's colours).
-    pub prim_albedo: Vec<Rgb>,
+    pub prim_albedo: PrimColors,
     /// Empty when no mesh has normals; else one entry per primitive.
     pub prim_mesh: Vec<MeshRef>,
     pub meshes: Vec<MeshShading>,
@@ -397,9 +422,6 @@ where
     pub(crate) fn prefetch(&self, found: Option<Found>) {
         if let Some(Found::Prim(h)) = found {
             let i = h.prim as usize;
-            if let Some(p) = self.accel.primitives().get(i) {
-                gridrt_grid::mem::prefetch(p);
-            }
             if let Some(a) = self.data.prim_albedo.get(i) {
                 gridrt_grid::mem::prefetch(a);
             }
@@ -419,7 +441,10 @@ where
         match found {
             Found::Prim(h) => {
                 let i = h.prim as usize;
-                let sp = self.accel.primitives()[i].surface(ray, h.t, h.u, h.v);
+                // The accelerator's own storage (a grid's cell order) holds
+                // the primitive in `slot`; the per-primitive tables go by
+                // primitive index.
+                let sp = self.accel.primitives()[h.slot as usize].surface(ray, h.t, h.u, h.v);
                 let mut ns = sp.n;
                 if let Some(m) = self.data.prim_mesh.get(i) {
                     let mesh = self.data.meshes.get(m.mesh as usize);

@@ -49,9 +49,10 @@
 //! println!("{stats}");
 //! ```
 //!
-//! Huge sphere scenes (Suffern's benchmark with a million spheres) are
-//! cheaper as a [`SphereSet`] given to [`Renderer::with_spheres`] than as a
-//! million [`Object`]s; [`suffern::renderer`] does that. A scene of spheres
+//! Huge sphere scenes (Suffern's benchmark with a million spheres) are one
+//! [`Object`] whose geometry is a [`Geometry::Spheres`] set: the spheres
+//! and their colours in two arrays, one material for all;
+//! [`suffern::scene`] builds one. A scene of spheres
 //! (and planes) only is rendered over a grid of compact [`Sphere`]s, any
 //! other scene over a grid of [`Shape`]s; planes stay outside the grid.
 //!
@@ -99,13 +100,13 @@ pub use error::{Cancelled, SceneError};
 pub use framebuffer::{Framebuffer, LiveImage, PixelRect};
 pub use gridrt_grid::Accelerator;
 pub use plan::{EffectPlan, IntegratorKind, RayCounts};
-pub use prepare::{SphereSet, MAX_PIXELS};
+pub use prepare::MAX_PIXELS;
 pub use render::{render, AccelKind, RenderOptions, RenderStats, Renderer};
 pub use robustness::{RayOffset, TriangleTest};
 pub use sampling::{Filter, SamplerKind};
 pub use scene::{
     Camera, EnvImage, Geometry, IntegratorChoice, Light, Material, MaterialId, Mesh, Object,
-    Projection, Rgb, Scene, Settings,
+    Projection, Rgb, Scene, Settings, SphereSet,
 };
 pub use shapes::{Cuboid, MtTriangle, Plane, Shape, Sphere, Triangle, MT_EPSILON};
 pub use texture::{MaterialMaps, Texture, TextureRef, Textures};

@@ -170,20 +170,10 @@ impl EffectPlan {
     /// of range are ignored here ([`crate::Renderer::new`] rejects them).
     #[must_use]
     pub fn for_scene(scene: &Scene) -> Self {
-        Self::derive(scene, None)
-    }
-
-    /// The plan for a scene plus `extra = (count, material)` spheres that are
-    /// not in `scene.objects` (a [`crate::SphereSet`]).
-    pub(crate) fn derive(scene: &Scene, extra: Option<(usize, u32)>) -> Self {
         let mut used = vec![false; scene.materials.len()];
-        let extra = extra.filter(|e| e.0 > 0);
-        for m in scene
-            .objects
-            .iter()
-            .map(|o| o.material)
-            .chain(extra.map(|e| e.1))
-        {
+        // An empty sphere set shows nothing of its material.
+        let shows = |o: &&crate::Object| !matches!(&o.geometry, Geometry::Spheres(s) if s.spheres.is_empty());
+        for m in scene.objects.iter().filter(shows).map(|o| o.material) {
             if let Some(u) = used.get_mut(m as usize) {
                 *u = true;
             }
@@ -229,7 +219,15 @@ impl EffectPlan {
                 _ => false,
             })
             .count();
-        let can_shadow = scene.objects.len() + extra.map_or(0, |e| e.0) + area_surfaces > 1
+        let shapes: usize = scene
+            .objects
+            .iter()
+            .map(|o| match &o.geometry {
+                Geometry::Spheres(s) => s.spheres.len(),
+                _ => 1,
+            })
+            .sum();
+        let can_shadow = shapes + area_surfaces > 1
             || scene
                 .objects
                 .iter()
@@ -273,12 +271,10 @@ impl EffectPlan {
         }
         let emits = |m: &Material| matches!(*m, Material::Emissive { color, strength } if color * strength != crate::Rgb::ZERO);
         // Emitting geometry that can be sampled (planes are unbounded).
-        let emitting_geometry = scene.objects.iter().any(|o| {
+        let emitting_geometry = scene.objects.iter().filter(shows).any(|o| {
             !matches!(o.geometry, Geometry::Plane { .. })
                 && scene.materials.get(o.material as usize).is_some_and(emits)
-        }) || extra
-            .is_some_and(|e| scene.materials.get(e.1 as usize).is_some_and(emits))
-            || area_surfaces > 0;
+        }) || area_surfaces > 0;
         let environment = scene.lights.iter().any(|l| {
             matches!(*l, Light::Environment { color, intensity, .. } if color * intensity != crate::Rgb::ZERO)
         });

@@ -5,13 +5,14 @@ use crate::camera::CameraModel;
 use crate::emitters::EmitterShape;
 use crate::error::SceneError;
 use crate::float::to_f64;
-use crate::integrator::{DirectLight, MeshRef, MeshShading, PrimMaterials, SceneData};
+use crate::integrator::{DirectLight, MeshRef, MeshShading, PrimColors, PrimMaterials, SceneData};
 use crate::lights::{AreaLight, Environment};
 use crate::plan::{EffectPlan, IntegratorKind};
-use crate::scene::{Geometry, Light, Material, MaterialId, Rgb, Scene};
+use crate::scene::{Geometry, Light, Material, Rgb, Scene, SphereSet};
 use crate::shapes::{Cuboid, Plane, Shape, Sphere, Triangle};
 use crate::texture::shade::{TextureData, TriFrame};
 use gridrt_bbox::{Real, Vec3};
+use std::sync::Arc;
 
 /// The largest image, in pixels, the renderer accepts (8192 × 8192).
 pub const MAX_PIXELS: u64 = 1 << 26;
@@ -20,6 +21,9 @@ pub const MAX_PIXELS: u64 = 1 << 26;
 #[derive(Debug)]
 pub(crate) enum Prims {
     Spheres(Vec<Sphere>),
+    /// A scene's only primitives: one sphere set, shared with the scene
+    /// (the grid copies each sphere once, straight into cell order).
+    Set(Arc<SphereSet>),
     Shapes(Vec<Shape>),
 }
 
@@ -27,6 +31,7 @@ impl Prims {
     pub(crate) fn len(&self) -> usize {
         match self {
             Prims::Spheres(v) => v.len(),
+            Prims::Set(s) => s.spheres.len(),
             Prims::Shapes(v) => v.len(),
         }
     }
@@ -226,41 +231,16 @@ fn check_light(i: usize, l: &Light) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// Many spheres that share one material, given as arrays rather than as
-/// [`Scene`] objects: 16 bytes per sphere (`f32`) plus 12 per colour instead
-/// of an object and a material each. It is how huge sphere scenes (Suffern's
-/// benchmark with a million spheres) are built and rendered without the
-/// memory traffic of a million `Object`s; see [`crate::Renderer::with_spheres`].
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct SphereSet {
-    /// The spheres (radius > 0, finite).
-    pub spheres: Vec<Sphere>,
-    /// Empty, or one colour per sphere that replaces the albedo (`color`) of
-    /// the material when it is Matte, Phong or Reflective.
-    pub colors: Vec<Rgb>,
-    /// Index into [`Scene::materials`] shared by all the spheres.
-    pub material: MaterialId,
-}
-
-/// Validates the scene (and the sphere set, which comes after the scene's
-/// objects in primitive order) and converts it. Triangles of zero area are
-/// left out of the grid (they can never be hit).
-pub(crate) fn prepare(scene: &Scene, set: Option<SphereSet>) -> Result<Prepared, SceneError> {
-    let (count, all_spheres) = validate(scene, set.as_ref())?;
-    let plan = EffectPlan::derive(scene, set.as_ref().map(|s| (s.spheres.len(), s.material)));
+/// Validates the scene and converts it. Triangles of zero area are left
+/// out of the grid (they can never be hit).
+pub(crate) fn prepare(scene: &Scene) -> Result<Prepared, SceneError> {
+    let (count, all_spheres) = validate(scene)?;
     let s = &scene.settings;
     let camera = CameraModel::new(&scene.camera, s.width, s.height)?;
-    let mut plan = plan;
+    let mut plan = EffectPlan::for_scene(scene);
     let mut data = shading_data(scene, &plan);
     data.tex = texture_data(scene, camera.footprint());
-    let prims = convert(
-        scene,
-        set,
-        count,
-        all_spheres,
-        plan.light_sampling,
-        &mut data,
-    );
+    let prims = convert(scene, count, all_spheres, plan.light_sampling, &mut data);
     data.emitters.finish(prims.len());
     plan.area_lights = data.emitters.list.len() as u32;
     // The path tracer samples the image; Whitted only sees it.
@@ -298,7 +278,7 @@ pub(crate) fn prepare(scene: &Scene, set: Option<SphereSet>) -> Result<Prepared,
 
 /// Checks everything; returns the number of grid primitives and whether
 /// they are all spheres.
-fn validate(scene: &Scene, set: Option<&SphereSet>) -> Result<(usize, bool), SceneError> {
+fn validate(scene: &Scene) -> Result<(usize, bool), SceneError> {
     let s = &scene.settings;
     if s.width == 0 || s.height == 0 {
         return Err(SceneError::EmptyImage {
@@ -448,11 +428,11 @@ fn validate(scene: &Scene, set: Option<&SphereSet>) -> Result<(usize, bool), Sce
                 all_spheres = false;
                 count += m.triangles.len();
             }
+            Geometry::Spheres(set) => {
+                check_set(i, set)?;
+                count += set.spheres.len();
+            }
         }
-    }
-    if let Some(set) = set {
-        check_set(scene, set)?;
-        count += set.spheres.len();
     }
     if count > u32::MAX as usize {
         return Err(SceneError::TooManyPrimitives { count });
@@ -460,17 +440,10 @@ fn validate(scene: &Scene, set: Option<&SphereSet>) -> Result<(usize, bool), Sce
     Ok((count, all_spheres))
 }
 
-fn check_set(scene: &Scene, set: &SphereSet) -> Result<(), SceneError> {
-    let object = scene.objects.len();
-    if set.material as usize >= scene.materials.len() {
-        return Err(SceneError::MaterialOutOfRange {
-            object,
-            material: set.material,
-            count: scene.materials.len(),
-        });
-    }
+fn check_set(object: usize, set: &SphereSet) -> Result<(), SceneError> {
     if !set.colors.is_empty() && set.colors.len() != set.spheres.len() {
         return Err(SceneError::SphereSetColors {
+            object,
             colors: set.colors.len(),
             spheres: set.spheres.len(),
         });
@@ -486,41 +459,29 @@ fn check_set(scene: &Scene, set: &SphereSet) -> Result<(), SceneError> {
         .iter()
         .fold(true, |ok, s| ok & center_ok(s) & radius_ok(s))
     {
-        for (i, s) in set.spheres.iter().enumerate() {
+        for (sphere, s) in set.spheres.iter().enumerate() {
+            let bad = |reason| SceneError::BadSetSphere {
+                object,
+                sphere,
+                reason,
+            };
             if !center_ok(s) {
-                return Err(SceneError::NotFinite {
-                    object: object + i,
-                    what: "sphere centre",
-                });
+                return Err(bad("the centre is not finite; give finite coordinates"));
             }
             if !radius_ok(s) {
-                return Err(SceneError::BadRadius {
-                    object: object + i,
-                    radius: to_f64(s.radius),
-                });
+                return Err(bad("the radius must be finite and > 0"));
             }
         }
     }
     if !set.colors.iter().fold(true, |ok, &c| ok & color_ok(c)) {
-        return Err(SceneError::BadMaterial {
-            material: set.material as usize,
-            reason: "a sphere-set colour is negative or not finite",
+        let sphere = set.colors.iter().position(|&c| !color_ok(c)).unwrap_or(0);
+        return Err(SceneError::BadSetSphere {
+            object,
+            sphere,
+            reason: "the colour must be finite and ≥ 0 in every channel",
         });
     }
     Ok(())
-}
-
-/// The material with its colour left out, for materials whose colour a
-/// per-primitive colour may replace (`None` for the others).
-fn uncolored(m: &Material) -> Option<Material> {
-    let mut m = m.clone();
-    match &mut m {
-        Material::Matte { color, .. }
-        | Material::Phong { color, .. }
-        | Material::Reflective { color, .. } => *color = Rgb::ZERO,
-        Material::Dielectric { .. } | Material::Emissive { .. } => return None,
-    }
-    Some(m)
 }
 
 /// The albedo of a material, as a per-primitive colour table records it.
@@ -734,70 +695,68 @@ fn mesh_shading(m: &crate::scene::Mesh, uvs: bool) -> MeshShading {
     }
 }
 
-/// Fills `data` with the primitives' materials and returns the primitives.
+/// Fills `data` with the primitives' materials and returns the primitives:
+/// each object's in turn (a sphere set's in the set's order, a mesh's in
+/// triangle order without the degenerate ones).
 fn convert(
     scene: &Scene,
-    set: Option<SphereSet>,
     count: usize,
     all_spheres: bool,
     sample_lights: bool,
     data: &mut SceneData,
 ) -> Prims {
-    let set_material = set.as_ref().map(|s| s.material);
-    let set_len = set.as_ref().map_or(0, |s| s.spheres.len());
-    let mut set_colors = set.as_ref().is_some_and(|s| !s.colors.is_empty());
     // One material for every primitive: no per-primitive table.
     let materials = || {
         scene
             .objects
             .iter()
-            .filter(|o| !matches!(o.geometry, Geometry::Plane { .. }))
+            .filter(|o| match &o.geometry {
+                Geometry::Plane { .. } => false,
+                Geometry::Spheres(set) => !set.spheres.is_empty(),
+                _ => true,
+            })
             .map(|o| o.material)
-            .chain(set_material.filter(|_| set_len > 0))
     };
-    let first = materials().next();
-    let mut uniform = match first {
+    let uniform = match materials().next() {
         None => Some(0),
         Some(first) => materials().all(|m| m == first).then_some(first),
     };
-    // Materials that differ only in their colour (a million matte spheres
-    // in random colours, as `RandomSpheres` makes them) become one material
-    // and a colour per primitive, as a `SphereSet`'s: shading then reads
-    // one small colour per hit instead of a material id and a material.
-    // Textured materials keep their identity (their maps differ).
+    // Textured materials need the meshes' texture coordinates.
     let textured = data.tex.maps.iter().any(Option::is_some);
-    let recolor = uniform.is_none() && !textured && {
-        let key = |m: MaterialId| uncolored(&scene.materials[m as usize]);
-        first
-            .and_then(key)
-            .is_some_and(|k| materials().all(|m| key(m).as_ref() == Some(&k)))
-    };
-    if recolor {
-        uniform = first;
-        set_colors = true;
-    }
+    // A colour per primitive as soon as one sphere set has colours.
+    let colored = scene
+        .objects
+        .iter()
+        .any(|o| matches!(&o.geometry, Geometry::Spheres(set) if !set.colors.is_empty()));
+    let smooth = textured
+        || scene.objects.iter().any(|o| {
+            matches!(&o.geometry, Geometry::Mesh(m) if !m.normals.is_empty() || !m.colors.is_empty())
+        });
     let mut per_prim = Vec::new();
     if uniform.is_none() {
         per_prim.reserve(count);
     }
     let mut albedos = Vec::new();
-    if set_colors && count > set_len {
+    if colored {
         albedos.reserve(count);
     }
-    let smooth = textured
-        || scene
-            .objects
-            .iter()
-            .any(|o| matches!(&o.geometry, Geometry::Mesh(m) if !m.normals.is_empty() || !m.colors.is_empty()));
-    let mut record = |material: u32, mesh: MeshRef, data: &mut SceneData| {
+    // The tables of `n` primitives of `material`, with `colors` (empty, or
+    // one per primitive).
+    let mut record = |material: u32, n: usize, colors: &[Rgb], data: &mut SceneData| {
         if uniform.is_none() {
-            per_prim.push(material);
+            per_prim.resize(per_prim.len() + n, material);
         }
-        if set_colors {
-            albedos.push(albedo(&scene.materials[material as usize]));
+        if colored {
+            if colors.is_empty() {
+                let a = albedo(&data.materials[material as usize]);
+                albedos.resize(albedos.len() + n, a);
+            } else {
+                albedos.extend_from_slice(colors);
+            }
         }
         if smooth {
-            data.prim_mesh.push(mesh);
+            data.prim_mesh
+                .resize(data.prim_mesh.len() + n, MeshRef::NONE);
         }
     };
     for o in &scene.objects {
@@ -806,51 +765,64 @@ fn convert(
             data.plane_material.push(o.material);
         }
     }
-    let prims = if all_spheres {
-        let mut spheres = Vec::with_capacity(count - set_len);
-        for o in &scene.objects {
-            if let Geometry::Sphere { center, radius } = o.geometry {
-                let sphere = Sphere::new(center, radius);
-                if sample_lights {
-                    add_emitter(data, spheres.len(), &Shape::Sphere(sphere), o.material);
+    // A scene whose primitives are all one sphere set's: the set as it is.
+    let mut sources = scene.objects.iter().filter(|o| match &o.geometry {
+        Geometry::Sphere { .. } => true,
+        Geometry::Spheres(set) => !set.spheres.is_empty(),
+        _ => false,
+    });
+    if let (true, Some(o), None) = (all_spheres, sources.next(), sources.next()) {
+        if let Geometry::Spheres(set) = &o.geometry {
+            if sample_lights {
+                for (k, &sp) in set.spheres.iter().enumerate() {
+                    add_emitter(data, k, &Shape::Sphere(sp), o.material);
                 }
-                spheres.push(sphere);
-                record(o.material, MeshRef::NONE, data);
             }
+            data.prim_material = PrimMaterials::Uniform(o.material);
+            if !set.colors.is_empty() {
+                data.prim_albedo = PrimColors::Set(Arc::clone(set));
+            }
+            return Prims::Set(Arc::clone(set));
         }
-        if let Some(set) = set {
-            // Take the set's vectors as they are when nothing comes before
-            // them: no copy of a million spheres.
-            if spheres.is_empty() {
-                spheres = set.spheres;
-            } else {
-                spheres.extend_from_slice(&set.spheres);
+    }
+    let prims = if all_spheres {
+        let mut spheres: Vec<Sphere> = Vec::with_capacity(count);
+        for o in &scene.objects {
+            let first = spheres.len();
+            match &o.geometry {
+                Geometry::Sphere { center, radius } => {
+                    spheres.push(Sphere::new(*center, *radius));
+                    record(o.material, 1, &[], data);
+                }
+                Geometry::Spheres(set) => {
+                    spheres.extend_from_slice(&set.spheres);
+                    record(o.material, set.spheres.len(), &set.colors, data);
+                }
+                _ => {}
             }
-            if albedos.is_empty() {
-                albedos = set.colors;
-            } else {
-                albedos.extend_from_slice(&set.colors);
-            }
-            if uniform.is_none() {
-                per_prim.resize(count, set.material);
+            if sample_lights {
+                for (k, &sp) in spheres.iter().enumerate().skip(first) {
+                    add_emitter(data, k, &Shape::Sphere(sp), o.material);
+                }
             }
         }
         Prims::Spheres(spheres)
     } else {
-        let mut shapes = Vec::with_capacity(count);
+        let mut shapes: Vec<Shape> = Vec::with_capacity(count);
         for o in &scene.objects {
+            let first = shapes.len();
             match &o.geometry {
                 Geometry::Sphere { center, radius } => {
-                    let shape = Shape::from(Sphere::new(*center, *radius));
-                    if sample_lights {
-                        add_emitter(data, shapes.len(), &shape, o.material);
-                    }
-                    shapes.push(shape);
-                    record(o.material, MeshRef::NONE, data);
+                    shapes.push(Sphere::new(*center, *radius).into());
+                    record(o.material, 1, &[], data);
+                }
+                Geometry::Spheres(set) => {
+                    shapes.extend(set.spheres.iter().map(|&sp| Shape::from(sp)));
+                    record(o.material, set.spheres.len(), &set.colors, data);
                 }
                 Geometry::Cuboid { min, max } => {
                     shapes.push(Cuboid::new(*min, *max).into());
-                    record(o.material, MeshRef::NONE, data);
+                    record(o.material, 1, &[], data);
                 }
                 Geometry::Plane { .. } => {}
                 Geometry::Mesh(m) => {
@@ -867,44 +839,32 @@ fn convert(
                         if tri.is_degenerate() {
                             continue;
                         }
-                        let shape = Shape::from(tri);
-                        if sample_lights {
-                            add_emitter(data, shapes.len(), &shape, o.material);
+                        shapes.push(Shape::from(tri));
+                        record(o.material, 1, &[], data);
+                        if smooth {
+                            if let Some(last) = data.prim_mesh.last_mut() {
+                                *last = MeshRef {
+                                    mesh: mesh_id,
+                                    tri: t as u32,
+                                };
+                            }
                         }
-                        shapes.push(shape);
-                        let mesh = MeshRef {
-                            mesh: mesh_id,
-                            tri: t as u32,
-                        };
-                        record(o.material, mesh, data);
                     }
                 }
             }
-        }
-        if let Some(set) = set {
-            let n = set.spheres.len();
-            shapes.extend(set.spheres.into_iter().map(Shape::from));
-            albedos.extend_from_slice(&set.colors);
-            if uniform.is_none() {
-                per_prim.resize(per_prim.len() + n, set.material);
-            }
-            if smooth {
-                data.prim_mesh
-                    .resize(data.prim_mesh.len() + n, MeshRef::NONE);
+            if sample_lights {
+                for (k, shape) in shapes.iter().enumerate().skip(first) {
+                    add_emitter(data, k, shape, o.material);
+                }
             }
         }
         Prims::Shapes(shapes)
     };
-    // A set without colours of its own after recoloured objects: its
-    // material's colour.
-    if let Some(m) = set_material.filter(|_| set_colors && albedos.len() < prims.len()) {
-        albedos.resize(prims.len(), albedo(&scene.materials[m as usize]));
-    }
     data.prim_material = match uniform {
         Some(m) => PrimMaterials::Uniform(m),
         None => PrimMaterials::PerPrim(per_prim),
     };
-    data.prim_albedo = albedos;
+    data.prim_albedo = PrimColors::Own(albedos);
     prims
 }
 
@@ -912,46 +872,81 @@ fn convert(
 mod tests {
     use super::*;
     use crate::integrator::PrimMaterials;
+    use crate::scene::Object;
     use crate::suffern;
+    use std::sync::Arc;
 
-    /// Each object's albedo, as its own material gives it.
-    fn own_albedos(scene: &Scene) -> Vec<Rgb> {
-        let m = |o: &crate::Object| albedo(&scene.materials[o.material as usize]);
-        scene.objects.iter().map(m).collect()
-    }
-
-    #[test]
-    fn materials_differing_only_in_colour_become_one_and_colours() {
-        let scene = suffern::scene(50);
-        let first = scene.objects[0].material;
-        assert!(scene.objects.iter().any(|o| o.material != first));
-        let p = prepare(&scene, None).unwrap();
-        assert!(matches!(p.data.prim_material, PrimMaterials::Uniform(m) if m == first));
-        assert_eq!(p.data.prim_albedo, own_albedos(&scene));
-
-        // A set without colours after them takes its material's colour.
-        let set = SphereSet {
-            spheres: suffern::sphere_set(7, 3).spheres,
-            colors: Vec::new(),
-            material: first + 1,
-        };
-        let p = prepare(&scene, Some(set)).unwrap();
-        let mut want = own_albedos(&scene);
-        want.resize(57, albedo(&scene.materials[first as usize + 1]));
-        assert_eq!(p.data.prim_albedo, want);
-        assert!(matches!(p.data.prim_material, PrimMaterials::Uniform(m) if m == first));
-    }
-
-    #[test]
-    fn materials_differing_otherwise_keep_their_table() {
-        let mut scene = suffern::scene(50);
-        let last = scene.objects[49].material as usize;
-        if let Material::Matte { ka, .. } = &mut scene.materials[last] {
-            *ka = 0.5;
+    fn set_object(set: SphereSet, material: u32) -> Object {
+        Object {
+            geometry: Geometry::Spheres(Arc::new(set)),
+            material,
         }
-        let p = prepare(&scene, None).unwrap();
-        let ids: Vec<u32> = scene.objects.iter().map(|o| o.material).collect();
+    }
+
+    #[test]
+    fn a_coloured_set_is_one_material_and_its_colours() {
+        let scene = suffern::scene(50);
+        let p = prepare(&scene).unwrap();
+        assert!(matches!(p.data.prim_material, PrimMaterials::Uniform(0)));
+        let Geometry::Spheres(set) = &scene.objects[0].geometry else {
+            panic!("the benchmark is one sphere set");
+        };
+        assert_eq!(*p.data.prim_albedo, set.colors);
+        // The set itself, shared with the scene: no copy.
+        assert!(matches!(&p.prims, Prims::Set(s) if Arc::ptr_eq(s, set)));
+    }
+
+    #[test]
+    fn objects_around_a_set_take_their_materials_colour() {
+        let mut scene = suffern::scene(5);
+        let red = Rgb::new(0.8, 0.1, 0.1);
+        scene.materials.push(Material::Matte {
+            color: red,
+            ka: 0.25,
+            kd: 0.75,
+        });
+        let sphere = |x| Object {
+            geometry: Geometry::Sphere {
+                center: Vec3::new(x, 0.0, 0.0),
+                radius: 0.5,
+            },
+            material: 1,
+        };
+        scene.objects.insert(0, sphere(-3.0));
+        // A set without colours takes its material's.
+        let plain = SphereSet {
+            spheres: suffern::sphere_set(3, 7).spheres,
+            colors: Vec::new(),
+        };
+        scene.objects.push(set_object(plain, 1));
+        let p = prepare(&scene).unwrap();
+        let Geometry::Spheres(set) = &scene.objects[1].geometry else {
+            panic!("object 1 is the benchmark's set");
+        };
+        let mut want = vec![red];
+        want.extend_from_slice(&set.colors);
+        want.extend([red; 3]);
+        assert_eq!(*p.data.prim_albedo, want);
+        let mut ids = vec![1];
+        ids.extend([0; 5]);
+        ids.extend([1; 3]);
         assert!(matches!(&p.data.prim_material, PrimMaterials::PerPrim(v) if *v == ids));
+        assert_eq!(p.prims.len(), 9);
+    }
+
+    #[test]
+    fn uncoloured_scenes_keep_no_colour_table() {
+        let mut scene = suffern::scene(0);
+        scene.objects.push(set_object(
+            SphereSet {
+                spheres: suffern::sphere_set(4, 3).spheres,
+                colors: Vec::new(),
+            },
+            0,
+        ));
+        let p = prepare(&scene).unwrap();
         assert!(p.data.prim_albedo.is_empty());
+        assert!(matches!(p.data.prim_material, PrimMaterials::Uniform(0)));
+        assert_eq!(p.prims.len(), 4);
     }
 }

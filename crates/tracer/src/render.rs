@@ -8,7 +8,7 @@ use crate::integrator::{Found, Integrator, Li, SceneData, Shading, ThreadState, 
 use crate::path::PathTracer;
 use crate::plan::{EffectPlan, IntegratorKind, RayCounts};
 use crate::pool::Pool;
-use crate::prepare::{prepare, Prepared, Prims, SphereSet};
+use crate::prepare::{prepare, Prepared, Prims};
 use crate::robustness::{with_triangle_test, RayOffset, TriangleTest};
 use crate::sampling::{FilterTable, SampleStream, SamplerKind};
 use crate::scene::{Rgb, Scene};
@@ -148,22 +148,16 @@ fn grid_config(options: &RenderOptions, parallel: bool) -> Option<GridConfig> {
     }
 }
 
-/// The accelerator the options ask for; a grid over small primitives
-/// (`copies`) keeps copies of them in cell order
-/// ([`Grid::build_with_copies`]).
-fn build_accel<P: Primitive + Clone + Send>(
+/// The accelerator the options ask for (a grid stores the primitives in
+/// cell order).
+fn build_accel<P: Primitive + Send>(
     prims: Vec<P>,
     options: &RenderOptions,
-    copies: bool,
     parallel: bool,
 ) -> (AccelOf<P>, Option<GridStats>) {
     match grid_config(options, parallel) {
         Some(config) => {
-            let grid = if copies {
-                Grid::build_with_copies(prims, &config)
-            } else {
-                Grid::build(prims, &config)
-            };
+            let grid = Grid::build(prims, &config);
             let stats = grid.stats().clone();
             (AccelOf::Grid(grid), Some(stats))
         }
@@ -178,31 +172,6 @@ impl Renderer {
     /// # Errors
     /// A [`SceneError`] naming the first problem found.
     pub fn new(scene: &Scene, options: &RenderOptions) -> Result<Renderer, SceneError> {
-        Self::build(scene, None, options)
-    }
-
-    /// Like [`Renderer::new`], with the spheres of `set` added after the
-    /// scene's objects (in primitive order). The set's vector of spheres is
-    /// moved into the accelerator without a copy when the scene has no other
-    /// grid primitives. This is the fast way to render huge sphere scenes
-    /// ([`crate::suffern::renderer`]).
-    ///
-    /// # Errors
-    /// A [`SceneError`] naming the first problem found; sphere `i` of the
-    /// set is reported as object `scene.objects.len() + i`.
-    pub fn with_spheres(
-        scene: &Scene,
-        set: SphereSet,
-        options: &RenderOptions,
-    ) -> Result<Renderer, SceneError> {
-        Self::build(scene, Some(set), options)
-    }
-
-    fn build(
-        scene: &Scene,
-        set: Option<SphereSet>,
-        options: &RenderOptions,
-    ) -> Result<Renderer, SceneError> {
         let start = Instant::now();
         let Prepared {
             mut data,
@@ -212,7 +181,7 @@ impl Renderer {
             width,
             height,
             spp,
-        } = prepare(scene, set)?;
+        } = prepare(scene)?;
         data.ray_offset = options.ray_offset;
         let prims = with_triangle_test(prims, options.triangle_test);
         let pool = Pool::new(options.threads);
@@ -220,11 +189,25 @@ impl Renderer {
         let prim_count = prims.len() + data.planes.len();
         let (accel, grid_stats) = pool.install(|| match prims {
             Prims::Spheres(v) => {
-                let (a, s) = build_accel(v, options, true, parallel);
+                let (a, s) = build_accel(v, options, parallel);
+                (Accel::Spheres(a), s)
+            }
+            Prims::Set(set) => {
+                let (a, s) = match grid_config(options, parallel) {
+                    Some(config) => {
+                        let grid = Grid::build_from_slice(&set.spheres, &config);
+                        let stats = grid.stats().clone();
+                        (AccelOf::Grid(grid), Some(stats))
+                    }
+                    None => (
+                        AccelOf::Exhaustive(Exhaustive::new(set.spheres.clone())),
+                        None,
+                    ),
+                };
                 (Accel::Spheres(a), s)
             }
             Prims::Shapes(v) => {
-                let (a, s) = build_accel(v, options, false, parallel);
+                let (a, s) = build_accel(v, options, parallel);
                 (Accel::Shapes(a), s)
             }
         });

@@ -5,8 +5,10 @@
 //! Colours are linear RGB (`glam::Vec3`, always f32, whatever `Real` is).
 
 use crate::sampling::{Filter, SamplerKind};
+use crate::shapes::Sphere;
 use crate::texture::Textures;
-use gridrt_bbox::{Real, Vec3};
+use gridrt_bbox::{Aabb, Real, Vec3};
+use std::sync::Arc;
 
 /// A linear-RGB colour (always f32).
 pub type Rgb = glam::Vec3;
@@ -159,8 +161,40 @@ pub enum Geometry {
         normal: Vec3,
     },
     /// A triangle mesh in world space; each triangle goes into the grid.
-    /// Boxed, so that an `Object` stays small in scenes of a million spheres.
+    /// Boxed, so that an `Object` stays small.
     Mesh(Box<Mesh>),
+    /// Many spheres of the object's material, each with an optional colour
+    /// of its own: one object for what would otherwise be one object and
+    /// one material per sphere (Suffern's benchmark of a million spheres,
+    /// `RandomSpheres` in a scene file). Shared, so that cloning a scene
+    /// does not copy the spheres; each sphere is one grid primitive, in
+    /// the set's order.
+    Spheres(Arc<SphereSet>),
+}
+
+/// The spheres of a [`Geometry::Spheres`] object: 16 bytes per sphere
+/// (`f32`) plus 12 per colour, the representation from the scene loader to
+/// the grid.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SphereSet {
+    /// The spheres (radius > 0, finite).
+    pub spheres: Vec<Sphere>,
+    /// Empty, or one colour per sphere that replaces the albedo (`color`) of
+    /// the object's material when it is Matte, Phong or Reflective.
+    pub colors: Vec<Rgb>,
+}
+
+impl SphereSet {
+    /// The box around every sphere ([`Aabb::EMPTY`] for an empty set).
+    #[must_use]
+    pub fn bounds(&self) -> Aabb {
+        self.spheres.iter().fold(Aabb::EMPTY, |b, s| {
+            b.union(Aabb::new(
+                s.center - Vec3::splat(s.radius),
+                s.center + Vec3::splat(s.radius),
+            ))
+        })
+    }
 }
 
 /// A triangle mesh with shared vertex arrays.
@@ -368,8 +402,8 @@ mod tests {
 
     #[test]
     fn an_object_stays_small() {
-        // Six coordinates (a box or a plane), the tag and the material: a
-        // million spheres must not pay for a mesh's vectors each.
+        // Six coordinates (a box or a plane), the tag and the material:
+        // objects must not pay for a mesh's vectors each.
         let limit = 6 * std::mem::size_of::<Real>() + 16;
         assert!(
             std::mem::size_of::<Object>() <= limit,

@@ -12,7 +12,7 @@
 //! ```
 //! use gridrt_tracer::suffern;
 //! let scene = suffern::scene(10);
-//! assert_eq!(scene.objects.len(), 10);
+//! assert_eq!(scene.objects.len(), 1); // one set of ten spheres
 //! let r = gridrt_tracer::Renderer::new(&scene, &Default::default()).unwrap();
 //! assert_eq!(r.count_camera_hits(), 16972);
 //! ```
@@ -20,6 +20,7 @@
 use crate::scene::{Camera, Geometry, Light, Material, Object, Projection, Rgb, Scene, Settings};
 use crate::{RenderOptions, Renderer, SceneError, Sphere, SphereSet};
 use gridrt_bbox::{Real, Vec3};
+use std::sync::Arc;
 
 /// The seed of the benchmark scene.
 pub const DEFAULT_SEED: u64 = 15;
@@ -162,8 +163,8 @@ pub fn spheres(n: usize, seed: u64) -> Vec<RandomSphere> {
         .collect()
 }
 
-/// The `n` spheres for a seed as a [`SphereSet`] of material 0 with the
-/// random colours (the same numbers as [`spheres`], without the detour
+/// The `n` spheres for a seed as a [`SphereSet`] with the random colours
+/// (the same numbers as [`spheres`], without the detour
 /// through a vector of [`RandomSphere`]).
 ///
 /// Each LCG step waits for the one before, so one sequence is drawn as
@@ -220,11 +221,7 @@ pub fn sphere_set_threads(n: usize, seed: u64, threads: usize) -> SphereSet {
         spheres.set_len(n);
         colors.set_len(n);
     }
-    SphereSet {
-        spheres,
-        colors,
-        material: 0,
-    }
+    SphereSet { spheres, colors }
 }
 
 /// Writes spheres `start..start + s.len()` of the sequence into `s` and
@@ -259,29 +256,18 @@ fn draw(
 /// Independent LCG sequences [`sphere_set`] interleaves.
 const LANES: usize = 4;
 
-/// The benchmark scene without its spheres: camera, settings, lights, and
-/// one matte material (white; the spheres' colours replace it), ready for
-/// [`Renderer::with_spheres`] and [`sphere_set`].
-#[must_use]
-pub fn base_scene() -> Scene {
-    let mut scene = scene_with_seed(0, DEFAULT_SEED);
-    scene.materials.push(matte(Rgb::ONE));
-    scene
-}
-
-/// The benchmark prepared for rendering the fast way: [`base_scene`] plus
-/// [`sphere_set_threads`] (on the options' threads), a grid of compact
-/// spheres and one colour per sphere, no `Object` per sphere. Renders the
-/// same image as [`scene`] does.
+/// The benchmark for `n` spheres, drawn on the options' threads
+/// ([`sphere_set_threads`]), ready to render: the same scene as
+/// [`scene`].
 ///
 /// # Errors
 /// None in practice (the scene is valid); the signature is that of
-/// [`Renderer::with_spheres`].
+/// [`Renderer::new`].
 pub fn renderer(n: usize, seed: u64, options: &RenderOptions) -> Result<Renderer, SceneError> {
     let threads = options
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    Renderer::with_spheres(&base_scene(), sphere_set_threads(n, seed, threads), options)
+    Renderer::new(&scene_of(sphere_set_threads(n, seed, threads)), options)
 }
 
 fn matte(color: Rgb) -> Material {
@@ -316,22 +302,16 @@ pub fn scene(n: usize) -> Scene {
 /// The benchmark scene for `n` spheres and a seed: 400 × 400, 1 spp, the
 /// [`camera`], black background, an ambient light (white, 1) and a
 /// directional light from (−10, 20, 20) of radiance 3 that casts no
-/// shadows; every sphere matte (`ka` 0.25, `kd` 0.75) in its random colour.
+/// shadows; one object, the [`sphere_set`], of a white matte material
+/// (`ka` 0.25, `kd` 0.75) that each sphere's random colour tints.
 #[must_use]
 pub fn scene_with_seed(n: usize, seed: u64) -> Scene {
-    let spheres = spheres(n, seed);
-    let mut materials = Vec::with_capacity(n);
-    let mut objects = Vec::with_capacity(n);
-    for (i, s) in spheres.iter().enumerate() {
-        materials.push(matte(s.color));
-        objects.push(Object {
-            geometry: Geometry::Sphere {
-                center: s.center,
-                radius: s.radius,
-            },
-            material: i as u32,
-        });
-    }
+    scene_of(sphere_set(n, seed))
+}
+
+/// The benchmark scene around a set of spheres (see [`scene_with_seed`]).
+#[must_use]
+pub fn scene_of(set: SphereSet) -> Scene {
     Scene {
         textures: Default::default(),
         camera: camera(),
@@ -345,7 +325,7 @@ pub fn scene_with_seed(n: usize, seed: u64) -> Scene {
             path_max_depth: 0,
             ..Settings::default()
         },
-        materials,
+        materials: vec![matte(Rgb::ONE)],
         lights: vec![
             Light::Ambient {
                 color: Rgb::ONE,
@@ -358,7 +338,10 @@ pub fn scene_with_seed(n: usize, seed: u64) -> Scene {
                 shadows: false,
             },
         ],
-        objects,
+        objects: vec![Object {
+            geometry: Geometry::Spheres(Arc::new(set)),
+            material: 0,
+        }],
     }
 }
 

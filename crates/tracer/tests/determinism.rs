@@ -50,9 +50,13 @@ fn sphere_set_renders_like_objects() {
     let set = gridrt_tracer::SphereSet {
         spheres: suffern::sphere_set(50, 3).spheres,
         colors: Vec::new(),
-        material: 0,
     };
-    let mixed = Renderer::with_spheres(&scene, set.clone(), &opts).unwrap();
+    let mut mixed = scene.clone();
+    mixed.objects.push(gridrt_tracer::Object {
+        geometry: gridrt_tracer::Geometry::Spheres(std::sync::Arc::new(set.clone())),
+        material: 0,
+    });
+    let mixed = Renderer::new(&mixed, &opts).unwrap();
     assert_eq!(mixed.primitive_count(), base.primitive_count() + 50);
     let (img, _) = mixed.render(&|_, _| {}, &Default::default()).unwrap();
     assert_finite(&img);

@@ -3,9 +3,10 @@
 use crate::common::*;
 use gridrt_grid::{Real, Vec3};
 use gridrt_tracer::{
-    Geometry, Light, Material, Mesh, Projection, RenderOptions, Renderer, Rgb, Scene, SceneError,
-    Sphere, SphereSet,
+    Geometry, Light, Material, Mesh, Object, Projection, RenderOptions, Renderer, Rgb, Scene,
+    SceneError, Sphere, SphereSet,
 };
+use std::sync::Arc;
 
 fn valid() -> Scene {
     let mut s = empty_scene(4, 4, Vec3::new(0.0, 0.0, 5.0));
@@ -226,56 +227,86 @@ fn materials_and_lights() {
 
 #[test]
 fn sphere_sets() {
-    let s = valid();
-    let set = |spheres: Vec<Sphere>, colors: Vec<Rgb>, material| SphereSet {
-        spheres,
-        colors,
-        material,
-    };
     let o = RenderOptions::default();
-    let e = Renderer::with_spheres(&s, set(vec![Sphere::new(Vec3::ZERO, 1.0)], vec![], 3), &o)
-        .unwrap_err();
+    // The scene `valid()` plus one sphere-set object.
+    let with = |spheres: Vec<Sphere>, colors: Vec<Rgb>, material| {
+        let mut s = valid();
+        s.objects.push(Object {
+            geometry: Geometry::Spheres(Arc::new(SphereSet { spheres, colors })),
+            material,
+        });
+        Renderer::new(&s, &o)
+    };
+    let e = with(vec![Sphere::new(Vec3::ZERO, 1.0)], vec![], 3).unwrap_err();
     assert!(matches!(
         e,
         SceneError::MaterialOutOfRange { object: 1, .. }
     ));
-    let e = Renderer::with_spheres(
-        &s,
-        set(vec![Sphere::new(Vec3::ZERO, 1.0)], vec![Rgb::ONE; 2], 0),
-        &o,
-    )
-    .unwrap_err();
+    let e = with(vec![Sphere::new(Vec3::ZERO, 1.0)], vec![Rgb::ONE; 2], 0).unwrap_err();
     assert!(matches!(
         e,
         SceneError::SphereSetColors {
+            object: 1,
             colors: 2,
             spheres: 1
         }
     ));
-    let e = Renderer::with_spheres(&s, set(vec![Sphere::new(Vec3::ZERO, 0.0)], vec![], 0), &o)
-        .unwrap_err();
-    assert!(matches!(e, SceneError::BadRadius { object: 1, .. }));
+    let e = with(vec![Sphere::new(Vec3::ZERO, 0.0)], vec![], 0).unwrap_err();
+    assert!(matches!(
+        e,
+        SceneError::BadSetSphere {
+            object: 1,
+            sphere: 0,
+            ..
+        }
+    ));
     // The first bad sphere of several is the one named.
     let good = Sphere::new(Vec3::ONE, 0.5);
     let mut spheres = vec![good; 5];
     spheres[3] = Sphere::new(Vec3::new(0.0, Real::NAN, 0.0), 0.5);
     spheres[4] = Sphere::new(Vec3::ZERO, Real::INFINITY);
-    let e = Renderer::with_spheres(&s, set(spheres.clone(), vec![], 0), &o).unwrap_err();
+    let e = with(spheres.clone(), vec![], 0).unwrap_err();
     assert!(
-        matches!(e, SceneError::NotFinite { object: 4, .. }),
+        matches!(
+            e,
+            SceneError::BadSetSphere {
+                object: 1,
+                sphere: 3,
+                ..
+            }
+        ),
         "{e:?}"
     );
+    assert!(e.to_string().contains("centre"), "{e}");
     spheres[3] = good;
-    let e = Renderer::with_spheres(&s, set(spheres, vec![], 0), &o).unwrap_err();
+    let e = with(spheres, vec![], 0).unwrap_err();
     assert!(
-        matches!(e, SceneError::BadRadius { object: 5, .. }),
+        matches!(
+            e,
+            SceneError::BadSetSphere {
+                object: 1,
+                sphere: 4,
+                ..
+            }
+        ),
         "{e:?}"
     );
+    assert!(e.to_string().contains("radius"), "{e}");
     let mut colors = vec![Rgb::ONE; 5];
     colors[2] = Rgb::new(0.5, -0.1, 0.5);
-    let e = Renderer::with_spheres(&s, set(vec![good; 5], colors, 0), &o).unwrap_err();
-    assert!(matches!(e, SceneError::BadMaterial { .. }), "{e:?}");
-    assert!(Renderer::with_spheres(&s, set(vec![good; 5], vec![Rgb::ONE; 5], 0), &o).is_ok());
+    let e = with(vec![good; 5], colors, 0).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            SceneError::BadSetSphere {
+                object: 1,
+                sphere: 2,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    assert!(with(vec![good; 5], vec![Rgb::ONE; 5], 0).is_ok());
 }
 
 #[test]

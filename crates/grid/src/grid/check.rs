@@ -17,34 +17,21 @@ impl<P: Primitive> Grid<P> {
     /// exactly the cells its padded box overlaps (or, with exact insertion,
     /// in every such cell it reports touching and no other), that the
     /// unbounded list holds exactly the primitives with non-finite boxes,
-    /// that a grid with copies has exactly one slot per gridded primitive
-    /// holding its copy, and that the stats match.
+    /// that every primitive has exactly one slot, and that the stats match.
     pub fn check_invariants(&self) -> Result<(), String> {
         let g = &self.geom;
         let n = self.prims.len();
-        if self.copies.len() != self.ids.len() {
-            return Err(format!(
-                "{} copies for {} slots",
-                self.copies.len(),
-                self.ids.len()
-            ));
+        if self.ids.len() != n {
+            return Err(format!("{} ids for {n} slots", self.ids.len()));
         }
-        if !self.copies.is_empty() {
-            // Every gridded primitive has exactly one slot holding its copy.
-            let mut seen = vec![false; n];
-            for (k, (c, &p)) in self.copies.iter().zip(self.ids.iter()).enumerate() {
-                let Some(prim) = self.prims.get(p as usize) else {
-                    return Err(format!("slot {k}: primitive {p} of {n}"));
-                };
-                if std::mem::replace(&mut seen[p as usize], true) {
-                    return Err(format!("primitive {p} has two slots"));
-                }
-                if prim.bounds() != c.bounds() {
-                    return Err(format!("slot {k} is not a copy of primitive {p}"));
-                }
+        // The slots hold every primitive once.
+        let mut seen = vec![false; n];
+        for (k, &p) in self.ids.iter().enumerate() {
+            if p as usize >= n {
+                return Err(format!("slot {k}: primitive {p} of {n}"));
             }
-            if self.ids.len() + self.unbounded.len() != n {
-                return Err("not every gridded primitive has a slot".into());
+            if std::mem::replace(&mut seen[p as usize], true) {
+                return Err(format!("primitive {p} has two slots"));
             }
         }
         if g.is_empty() {
@@ -76,7 +63,7 @@ impl<P: Primitive> Grid<P> {
                 ));
             }
         }
-        let slots = self.slots().len();
+        let slots = self.prims.len();
         if let Some(&p) = self.refs.iter().find(|&&p| p as usize >= slots) {
             return Err(format!("reference {p} of {slots}"));
         }
@@ -165,10 +152,11 @@ impl<P: Primitive> Grid<P> {
         }
         let mut expected = Vec::with_capacity(stored.len());
         let mut unbounded = Vec::new();
-        for (p, prim) in self.prims.iter().enumerate() {
+        for (slot, prim) in self.prims.iter().enumerate() {
+            let p = self.ids[slot] as usize;
             let b = prim.bounds();
             if !build::is_gridded(&b) {
-                unbounded.push(p as u32);
+                unbounded.push(slot as u32);
                 continue;
             }
             if g.is_empty() {
@@ -223,7 +211,7 @@ impl<P: Primitive> Grid<P> {
     fn check_nested(&self) -> Result<(), String> {
         let all = self.runs(1);
         let reached = self.nested.check(
-            self.slots(),
+            &self.prims,
             &self.geom,
             &self.nested.root,
             all,

@@ -15,18 +15,19 @@ pub(super) fn run_start(all: &[u32], cell: &[u32]) -> u32 {
     ((cell.as_ptr() as usize - all.as_ptr() as usize) / std::mem::size_of::<u32>()) as u32
 }
 
-/// The primitive index of reference `r`: `r` itself, or its slot's entry
-/// in `ids` for a grid with copies.
+/// The primitive index of slot `r`.
 #[inline(always)]
 pub(super) fn prim_id(ids: &[u32], r: u32) -> u32 {
-    ids.get(r as usize).map_or(r, |&p| p)
+    debug_assert!((r as usize) < ids.len());
+    // SAFETY: every slot has an id (checked by `check_invariants`).
+    unsafe { *ids.get_unchecked(r as usize) }
 }
 
 /// The closest-hit query's per-cell work.
 pub(super) struct Closest<'q, P, C, const MB: bool> {
-    /// What the references index: the grid's copies or its primitives.
+    /// The grid's primitives in slot order: what the references index.
     pub(super) prims: &'q [P],
-    /// Empty, or the primitive index of each slot.
+    /// The primitive index of each slot.
     pub(super) ids: &'q [u32],
     /// The walked grid's references (a cell's nested grid is found by its
     /// run's start).
@@ -46,23 +47,17 @@ pub(super) struct Closest<'q, P, C, const MB: bool> {
 }
 
 impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
-    /// Tests one primitive, keeping its hit if it is better ([`Hit::is_better_than`]).
+    /// Tests the primitive in slot `r`, keeping its hit if it is better
+    /// ([`Hit::is_better_than`]).
     #[inline(always)]
-    fn test(&mut self, r: u32) {
+    pub(super) fn test(&mut self, r: u32) {
         debug_assert!((r as usize) < self.prims.len());
         // SAFETY: every stored reference is a valid index into `prims`
         // (checked by `check_invariants`).
         let prim = unsafe { self.prims.get_unchecked(r as usize) };
-        let ids = self.ids;
-        self.test_prim(|| prim_id(ids, r), prim);
-    }
-
-    /// Tests primitive `p`, given as `prim` (the original or a copy).
-    #[inline(always)]
-    pub(super) fn test_prim(&mut self, p: impl FnOnce() -> u32, prim: &P) {
         self.counters.test();
         if let Some(h) = prim.closest_hit(self.ray, self.t_min, self.t_lim) {
-            self.keep(Hit::new(h, p()));
+            self.keep(Hit::new(h, prim_id(self.ids, r), r));
         }
     }
 
@@ -145,7 +140,7 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
             let (prims, ids, ray, t_min, t_lim) =
                 (self.prims, self.ids, self.ray, self.t_min, self.t_lim);
             P::closest_hits(prims, refs, ray, t_min, t_lim, &mut |r, h| {
-                self.keep(Hit::new(h, prim_id(ids, r)))
+                self.keep(Hit::new(h, prim_id(ids, r), r))
             });
             return;
         }
@@ -166,7 +161,7 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
 
 /// The any-hit query's per-cell work.
 pub(super) struct AnyHit<'q, P, C, const MB: bool> {
-    /// What the references index: the grid's copies or its primitives.
+    /// The grid's primitives in slot order: what the references index.
     pub(super) prims: &'q [P],
     /// The walked grid's references (a cell's nested grid is found by its
     /// run's start).
