@@ -83,6 +83,7 @@ mod scene_transform;
 mod schema;
 mod schema_settings;
 mod schema_textures;
+mod schema_values;
 
 pub use aov_out::{
     aov_png_path, parse_aovs, stage_aov_pngs, stage_exr_with_aovs, write_aov_pngs,

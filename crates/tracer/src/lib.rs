@@ -94,6 +94,8 @@ mod shapes;
 mod stats;
 pub mod suffern;
 pub mod texture;
+mod validate;
+mod whitted;
 
 pub use aov::{Aov, AovImage};
 pub use error::{Cancelled, SceneError};

@@ -235,7 +235,7 @@ pub(crate) fn read_uvs(
         .ok_or_else(|| format!("accessor {} has no buffer view", acc.index()))?;
     let elem = 2 * size;
     let (bytes, stride) =
-        super::gltf::element_slice(&view, acc.offset(), acc.count(), elem, buffers)?;
+        super::gltf_accessors::element_slice(&view, acc.offset(), acc.count(), elem, buffers)?;
     Ok((0..acc.count())
         .map(|i| {
             let b = &bytes[i * stride..i * stride + elem];

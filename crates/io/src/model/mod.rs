@@ -5,6 +5,7 @@
 
 pub(crate) mod base64;
 mod gltf;
+mod gltf_accessors;
 mod gltf_graph;
 mod gltf_textures;
 mod normals;

@@ -1,0 +1,400 @@
+//! Validation of a [`Scene`] before it is prepared: every material, light,
+//! object and sphere set, with the error that names what is wrong.
+
+use crate::camera::CameraModel;
+use crate::error::SceneError;
+use crate::float::to_f64;
+use crate::lights::AreaLight;
+use crate::prepare::MAX_PIXELS;
+use crate::scene::{Geometry, Light, Material, Rgb, Scene, SphereSet};
+use crate::shapes::Sphere;
+
+pub(crate) fn color_ok(c: Rgb) -> bool {
+    c.is_finite() && c.cmpge(Rgb::ZERO).all()
+}
+
+fn coef_ok(k: f32) -> bool {
+    k.is_finite() && k >= 0.0
+}
+
+fn check_material(i: usize, m: &Material) -> Result<(), SceneError> {
+    let bad = |reason| {
+        Err(SceneError::BadMaterial {
+            material: i,
+            reason,
+        })
+    };
+    match *m {
+        Material::Matte { color, ka, kd } => {
+            if !color_ok(color) {
+                return bad("the colour must be finite and ≥ 0 in every channel");
+            }
+            if !coef_ok(ka) || !coef_ok(kd) {
+                return bad("ka and kd must be finite and ≥ 0");
+            }
+        }
+        Material::Phong {
+            color,
+            ka,
+            kd,
+            ks,
+            exp,
+            specular,
+        } => {
+            if !color_ok(color) || !color_ok(specular) {
+                return bad("the colours must be finite and ≥ 0 in every channel");
+            }
+            if ![ka, kd, ks, exp].into_iter().all(coef_ok) {
+                return bad("ka, kd, ks and exp must be finite and ≥ 0");
+            }
+        }
+        Material::Reflective {
+            color,
+            ka,
+            kd,
+            ks,
+            exp,
+            kr,
+            reflect,
+        } => {
+            if !color_ok(color) || !color_ok(reflect) {
+                return bad("the colours must be finite and ≥ 0 in every channel");
+            }
+            if ![ka, kd, ks, exp, kr].into_iter().all(coef_ok) {
+                return bad("ka, kd, ks, exp and kr must be finite and ≥ 0");
+            }
+        }
+        Material::Dielectric { ior, tint } => {
+            if !(ior.is_finite() && ior > 0.0) {
+                return bad("the index of refraction must be finite and > 0 (glass is about 1.5)");
+            }
+            if !color_ok(tint) {
+                return bad("the tint must be finite and ≥ 0 in every channel (white = clear)");
+            }
+        }
+        Material::Emissive { color, strength } => {
+            if !color_ok(color) || !coef_ok(strength) {
+                return bad("the colour and strength must be finite and ≥ 0");
+            }
+        }
+    }
+    Ok(())
+}
+
+fn check_light(i: usize, l: &Light) -> Result<(), SceneError> {
+    let bad = |reason| Err(SceneError::BadLight { light: i, reason });
+    let (color, intensity) = match *l {
+        Light::Ambient { color, intensity } => (color, intensity),
+        Light::Point {
+            position,
+            color,
+            intensity,
+            ..
+        } => {
+            if !position.is_finite() {
+                return bad("the position is not finite; give finite coordinates");
+            }
+            (color, intensity)
+        }
+        Light::Directional {
+            direction,
+            color,
+            intensity,
+            ..
+        } => {
+            if !direction.is_finite() || direction.try_normalize().is_none() {
+                return bad("the direction is zero or not finite; give the (non-zero) direction towards the light");
+            }
+            (color, intensity)
+        }
+        Light::Spot {
+            position,
+            direction,
+            color,
+            intensity,
+            inner_deg,
+            outer_deg,
+            ..
+        } => {
+            if !position.is_finite() {
+                return bad("the position is not finite; give finite coordinates");
+            }
+            if !direction.is_finite() || direction.try_normalize().is_none() {
+                return bad("the direction is zero or not finite; give the (non-zero) direction the spot points to");
+            }
+            if !(outer_deg > 0.0 && outer_deg <= 180.0) {
+                return bad("the outer angle must be in (0, 180] degrees");
+            }
+            if !(inner_deg >= 0.0 && inner_deg <= outer_deg) {
+                return bad("the inner angle must be in [0, outer angle] degrees");
+            }
+            (color, intensity)
+        }
+        Light::Rect {
+            corner,
+            edge_u,
+            edge_v,
+            color,
+            intensity,
+        } => {
+            if !corner.is_finite() || !edge_u.is_finite() || !edge_v.is_finite() {
+                return bad("the corner and edges must be finite");
+            }
+            if AreaLight::rect(corner, edge_u, edge_v, 0).is_none() {
+                return bad("the edges are zero or parallel; give two edges that span a rectangle");
+            }
+            (color, intensity)
+        }
+        Light::Disk {
+            center,
+            normal,
+            radius,
+            color,
+            intensity,
+        } => {
+            if !center.is_finite() || !normal.is_finite() {
+                return bad("the centre and normal must be finite");
+            }
+            if normal.try_normalize().is_none() {
+                return bad("the normal is zero; give the side the disk emits to");
+            }
+            if !(radius > 0.0) || !radius.is_finite() {
+                return bad("the radius must be finite and > 0");
+            }
+            (color, intensity)
+        }
+        Light::Environment {
+            color,
+            intensity,
+            ref image,
+        } => {
+            if let Some(img) = image {
+                let n = u64::from(img.width) * u64::from(img.height);
+                if n == 0 || img.pixels.len() as u64 != n {
+                    return bad(
+                        "the environment image is empty or its pixel count is not width × height",
+                    );
+                }
+                if n > MAX_PIXELS {
+                    return bad("the environment image has more than 2^26 pixels; scale it down");
+                }
+                if !img.pixels.iter().all(|&p| color_ok(p)) {
+                    return bad("the environment image has negative or non-finite pixels");
+                }
+            }
+            (color, intensity)
+        }
+    };
+    if !color_ok(color) || !coef_ok(intensity) {
+        return bad("the colour and intensity must be finite and ≥ 0");
+    }
+    Ok(())
+}
+
+/// Checks everything; returns the number of grid primitives and whether
+/// they are all spheres.
+pub(crate) fn validate(scene: &Scene) -> Result<(usize, bool), SceneError> {
+    let s = &scene.settings;
+    if s.width == 0 || s.height == 0 {
+        return Err(SceneError::EmptyImage {
+            width: s.width,
+            height: s.height,
+        });
+    }
+    if u64::from(s.width) * u64::from(s.height) > MAX_PIXELS {
+        return Err(SceneError::ImageTooLarge {
+            width: s.width,
+            height: s.height,
+            max: MAX_PIXELS,
+        });
+    }
+    if s.spp == 0 {
+        return Err(SceneError::ZeroSamples);
+    }
+    if !s.filter.is_valid() {
+        return Err(SceneError::BadFilter {
+            filter: s.filter.describe(),
+        });
+    }
+    if !s.background.is_finite() {
+        return Err(SceneError::SettingNotFinite { what: "background" });
+    }
+    CameraModel::new(&scene.camera, s.width, s.height)?;
+    for (i, m) in scene.materials.iter().enumerate() {
+        check_material(i, m)?;
+    }
+    for (i, l) in scene.lights.iter().enumerate() {
+        check_light(i, l)?;
+        if matches!(l, Light::Environment { .. })
+            && scene.lights[..i]
+                .iter()
+                .any(|l| matches!(l, Light::Environment { .. }))
+        {
+            return Err(SceneError::BadLight {
+                light: i,
+                reason: "a second Environment light: a scene has at most one",
+            });
+        }
+    }
+    scene
+        .textures
+        .check(scene.materials.len())
+        .map_err(|reason| SceneError::BadTextures { reason })?;
+
+    // Validate objects and count primitives.
+    let mut all_spheres = true;
+    let mut count = 0usize;
+    for (i, o) in scene.objects.iter().enumerate() {
+        if o.material as usize >= scene.materials.len() {
+            return Err(SceneError::MaterialOutOfRange {
+                object: i,
+                material: o.material,
+                count: scene.materials.len(),
+            });
+        }
+        match &o.geometry {
+            Geometry::Sphere { center, radius } => {
+                if !center.is_finite() {
+                    return Err(SceneError::NotFinite {
+                        object: i,
+                        what: "sphere centre",
+                    });
+                }
+                if !(*radius > 0.0 && radius.is_finite()) {
+                    return Err(SceneError::BadRadius {
+                        object: i,
+                        radius: to_f64(*radius),
+                    });
+                }
+                count += 1;
+            }
+            Geometry::Cuboid { min, max } => {
+                if !min.is_finite() || !max.is_finite() {
+                    return Err(SceneError::NotFinite {
+                        object: i,
+                        what: "box corner",
+                    });
+                }
+                if min.cmpgt(*max).any() {
+                    return Err(SceneError::InvertedCuboid { object: i });
+                }
+                all_spheres = false;
+                count += 1;
+            }
+            Geometry::Plane { point, normal } => {
+                if !point.is_finite() || !normal.is_finite() {
+                    return Err(SceneError::NotFinite {
+                        object: i,
+                        what: "plane point or normal",
+                    });
+                }
+                if normal.try_normalize().is_none() {
+                    return Err(SceneError::ZeroNormal { object: i });
+                }
+            }
+            Geometry::Mesh(m) => {
+                let nv = m.positions.len();
+                let name = || m.name.clone();
+                let counts = [
+                    ("normals", m.normals.len()),
+                    ("uvs", m.uvs.len()),
+                    ("colors", m.colors.len()),
+                ];
+                for (attribute, n) in counts {
+                    if n != 0 && n != nv {
+                        return Err(SceneError::MeshAttributeCount {
+                            object: i,
+                            mesh: name(),
+                            attribute,
+                            count: n,
+                            vertices: nv,
+                        });
+                    }
+                }
+                for (attribute, list) in [("position", &m.positions), ("normal", &m.normals)] {
+                    if let Some(v) = list.iter().position(|p| !p.is_finite()) {
+                        return Err(SceneError::MeshNotFinite {
+                            object: i,
+                            mesh: name(),
+                            attribute,
+                            vertex: v,
+                        });
+                    }
+                }
+                if let Some(v) = m.colors.iter().position(|c| !color_ok(*c)) {
+                    return Err(SceneError::MeshNotFinite {
+                        object: i,
+                        mesh: name(),
+                        attribute: "colour (or a negative one)",
+                        vertex: v,
+                    });
+                }
+                for (t, tri) in m.triangles.iter().enumerate() {
+                    if let Some(&index) = tri.iter().find(|&&k| k as usize >= nv) {
+                        return Err(SceneError::MeshIndexOutOfRange {
+                            object: i,
+                            mesh: name(),
+                            triangle: t,
+                            index,
+                            vertices: nv,
+                        });
+                    }
+                }
+                all_spheres = false;
+                count += m.triangles.len();
+            }
+            Geometry::Spheres(set) => {
+                check_set(i, set)?;
+                count += set.spheres.len();
+            }
+        }
+    }
+    if count > u32::MAX as usize {
+        return Err(SceneError::TooManyPrimitives { count });
+    }
+    Ok((count, all_spheres))
+}
+
+fn check_set(object: usize, set: &SphereSet) -> Result<(), SceneError> {
+    if !set.colors.is_empty() && set.colors.len() != set.spheres.len() {
+        return Err(SceneError::SphereSetColors {
+            object,
+            colors: set.colors.len(),
+            spheres: set.spheres.len(),
+        });
+    }
+    // Branch-free tests (`&`, not `&&`), so that one pass over a million
+    // spheres vectorises; the loop naming the first bad one runs only when
+    // there is one.
+    let center_ok =
+        |s: &Sphere| s.center.x.is_finite() & s.center.y.is_finite() & s.center.z.is_finite();
+    let radius_ok = |s: &Sphere| (s.radius > 0.0) & s.radius.is_finite();
+    if !set
+        .spheres
+        .iter()
+        .fold(true, |ok, s| ok & center_ok(s) & radius_ok(s))
+    {
+        for (sphere, s) in set.spheres.iter().enumerate() {
+            let bad = |reason| SceneError::BadSetSphere {
+                object,
+                sphere,
+                reason,
+            };
+            if !center_ok(s) {
+                return Err(bad("the centre is not finite; give finite coordinates"));
+            }
+            if !radius_ok(s) {
+                return Err(bad("the radius must be finite and > 0"));
+            }
+        }
+    }
+    if !set.colors.iter().fold(true, |ok, &c| ok & color_ok(c)) {
+        let sphere = set.colors.iter().position(|&c| !color_ok(c)).unwrap_or(0);
+        return Err(SceneError::BadSetSphere {
+            object,
+            sphere,
+            reason: "the colour must be finite and ≥ 0 in every channel",
+        });
+    }
+    Ok(())
+}

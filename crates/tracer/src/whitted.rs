@@ -1,0 +1,422 @@
+//! The Whitted integrator (Suffern's ray casting when it neither reflects
+//! nor refracts), specialised at compile time on the effects of the plan.
+
+use crate::float::to_f32;
+use crate::optics::{fresnel_dielectric, reflect, refract};
+use crate::sampling::SampleStream;
+use crate::scene::{Material, Rgb};
+use crate::shapes::{Surface, SurfacePoint};
+use gridrt_bbox::{gamma, Ray, Real, Vec3};
+use gridrt_grid::Accelerator;
+use std::f32::consts::FRAC_1_PI;
+
+use crate::integrator::{DirectLight, Integrator, Li, Shading, ThreadState, Tracer};
+
+/// Suffern's ray casting (`REFLECT = REFRACT = false`) and Whitted tracing.
+/// `SHADOWS = false` removes shadow rays from the code, `REFLECT = false`
+/// mirror reflection, `REFRACT = false` dielectrics, `AREA = false` the
+/// sampling of area lights (soft shadows): the plan instantiates only the
+/// combination the scene needs.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Whitted<
+    const SHADOWS: bool,
+    const REFLECT: bool,
+    const REFRACT: bool,
+    const AREA: bool,
+>;
+
+impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool, const AREA: bool> Integrator
+    for Whitted<SHADOWS, REFLECT, REFRACT, AREA>
+{
+    // Light sampling draws from each pixel sample's stream, which the
+    // render loop only hands out per sample.
+    const BATCH: bool = !AREA;
+    const SAMPLED: bool = AREA;
+
+    #[inline]
+    fn li<A>(
+        tr: &Tracer<'_, A>,
+        ray: &Ray,
+        depth: u32,
+        stream: &mut SampleStream,
+        ts: &mut ThreadState<A::Scratch>,
+    ) -> Li
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+    {
+        let hit = tr
+            .closest(ray, Real::INFINITY, &mut ts.scratch)
+            .map(|f| tr.shading(ray, f));
+        Self::shade(tr, ray, hit.as_ref(), depth, stream, ts)
+    }
+
+    fn shade<A>(
+        tr: &Tracer<'_, A>,
+        ray: &Ray,
+        hit: Option<&Shading>,
+        depth: u32,
+        stream: &mut SampleStream,
+        ts: &mut ThreadState<A::Scratch>,
+    ) -> Li
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+    {
+        let Some(sh) = hit else {
+            return Li {
+                color: tr.data.miss(ray.dir),
+                t: Real::INFINITY,
+                hit: false,
+            };
+        };
+        let t = sh.t;
+        let wo = -ray.dir;
+        let color = match tr.data.materials[sh.material as usize] {
+            Material::Matte { color, ka, kd } => {
+                let color = sh.albedo.unwrap_or(color);
+                let (ng, ns) = face_forward(sh.sp.n, sh.ns, wo);
+                Self::direct(
+                    tr,
+                    &sh.sp,
+                    ng,
+                    ns,
+                    wo,
+                    color * ka,
+                    color * (kd * FRAC_1_PI),
+                    None,
+                    stream,
+                    ts,
+                )
+            }
+            Material::Phong {
+                color,
+                ka,
+                kd,
+                ks,
+                exp,
+                specular,
+            } => {
+                let color = sh.albedo.unwrap_or(color);
+                let (ng, ns) = face_forward(sh.sp.n, sh.ns, wo);
+                let spec = Some((specular * ks, exp));
+                Self::direct(
+                    tr,
+                    &sh.sp,
+                    ng,
+                    ns,
+                    wo,
+                    color * ka,
+                    color * (kd * FRAC_1_PI),
+                    spec,
+                    stream,
+                    ts,
+                )
+            }
+            Material::Reflective {
+                color,
+                ka,
+                kd,
+                ks,
+                exp,
+                kr,
+                reflect: cr,
+            } => {
+                let color = sh.albedo.unwrap_or(color);
+                let (ng, ns) = face_forward(sh.sp.n, sh.ns, wo);
+                // Suffern's Reflective extends Phong with a white highlight.
+                let spec = (ks != 0.0).then_some((Rgb::splat(ks), exp));
+                let mut l = Self::direct(
+                    tr,
+                    &sh.sp,
+                    ng,
+                    ns,
+                    wo,
+                    color * ka,
+                    color * (kd * FRAC_1_PI),
+                    spec,
+                    stream,
+                    ts,
+                );
+                if REFLECT && depth < tr.data.max_depth && kr != 0.0 {
+                    let wr = on_side(reflect(wo, secondary_ns(ng, ns, wo)), ng, ns, true);
+                    let origin = tr.data.ray_offset.origin(sh.sp.p, sh.sp.p_err, ng, wr);
+                    ts.counts.reflection += 1;
+                    l += cr * kr * Self::li(tr, &Ray::new(origin, wr), depth + 1, stream, ts).color;
+                }
+                l
+            }
+            Material::Dielectric { ior, tint } => {
+                if REFRACT {
+                    Self::dielectric(tr, sh, wo, ior, tint, depth, stream, ts)
+                } else {
+                    // The plan leaves refraction out only when max_depth is 0
+                    // (or no dielectric is in use): glass is then black, as at
+                    // the end of any ray tree.
+                    Rgb::ZERO
+                }
+            }
+            // Emission is one-sided: the front face (where the geometric
+            // normal points) glows, the back is black.
+            Material::Emissive { color, strength } => {
+                if sh.sp.n.dot(wo) > 0.0 {
+                    color * strength
+                } else {
+                    Rgb::ZERO
+                }
+            }
+        };
+        Li {
+            color: color + sh.emission,
+            t,
+            hit: true,
+        }
+    }
+}
+
+/// Turns the geometric normal to the side of `wo` and the shading normal
+/// with it (opaque surfaces are two-sided).
+#[inline]
+pub(crate) fn face_forward(ng: Vec3, ns: Vec3, wo: Vec3) -> (Vec3, Vec3) {
+    if ng.dot(wo) < 0.0 {
+        (-ng, -ns)
+    } else {
+        (ng, ns)
+    }
+}
+
+/// The shading normal for a secondary ray: `ns`, or `ng` when `wo` lies
+/// below `ns` (a smooth normal tilted away from a grazing view), so that
+/// the mirror direction is well defined. Both are on `wo`'s side of the
+/// geometric surface.
+#[inline]
+fn secondary_ns(ng: Vec3, ns: Vec3, wo: Vec3) -> Vec3 {
+    if ns.dot(wo) > 0.0 {
+        ns
+    } else {
+        ng
+    }
+}
+
+/// `w` on the given side of the geometric surface (`above`: the side `ng`
+/// points to): unchanged when it is, else mirrored across the surface's
+/// plane. A direction that a shading normal `ns` bends through the surface
+/// would leak light from the other side; mirroring keeps it on the side
+/// the reflection or refraction belongs to. Where `ns` is `ng` (flat
+/// surfaces, spheres) the direction is on its side by construction, up to
+/// rounding at grazing angles, and is left as it is.
+#[inline]
+fn on_side(w: Vec3, ng: Vec3, ns: Vec3, above: bool) -> Vec3 {
+    if ns == ng {
+        return w;
+    }
+    let c = w.dot(ng);
+    if (c > 0.0) == above && c != 0.0 {
+        return w;
+    }
+    let m = w - ng * (2.0 * c);
+    // Grazing (c = 0): nudge off the plane to the wanted side.
+    let m = if m.dot(ng) == 0.0 {
+        m + if above { ng } else { -ng } * 1e-3
+    } else {
+        m
+    };
+    m.normalize()
+}
+
+/// The parameter end of a shadow ray towards a point sampled on an area
+/// light at `t = 1`: short of it by a relative margin, so that the light's
+/// own surface (whose sampled point carries rounding error) does not
+/// occlude it.
+pub(crate) const LIGHT_T_MAX: Real = 1.0 - 1e-4;
+
+/// The parameter end of a shadow ray towards a point light at `t = 1`:
+/// just short of it by a bound on the rounding of the ray (no fixed epsilon).
+#[inline]
+pub(crate) fn point_shadow_t_max() -> Real {
+    1.0 - gamma(16)
+}
+
+impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool, const AREA: bool>
+    Whitted<SHADOWS, REFLECT, REFRACT, AREA>
+{
+    /// Ambient plus direct lighting with Suffern's BRDFs: Lambert `kd·cd/π`
+    /// and, with `spec = (ks·cs, exp)`, the glossy `ks·cs·(r·wo)^exp`; each
+    /// light contributes `f · L · cos θ`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn direct<A>(
+        tr: &Tracer<'_, A>,
+        sp: &SurfacePoint,
+        ng: Vec3,
+        ns: Vec3,
+        wo: Vec3,
+        ambient: Rgb,
+        diffuse: Rgb,
+        spec: Option<(Rgb, f32)>,
+        stream: &mut SampleStream,
+        ts: &mut ThreadState<A::Scratch>,
+    ) -> Rgb
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+    {
+        let mut l = ambient * tr.data.ambient;
+        if diffuse == Rgb::ZERO && spec.is_none() {
+            return l;
+        }
+        let brdf = |wi: Vec3| {
+            let mut f = diffuse;
+            if let Some((ks, exp)) = spec {
+                let r = reflect(wi, ns);
+                let rdotwo = r.dot(wo);
+                if rdotwo > 0.0 {
+                    f += ks * to_f32(rdotwo).powf(exp);
+                }
+            }
+            f
+        };
+        if AREA {
+            // One sample of the area lights, chosen by power (Suffern ch. 18
+            // samples each light; choosing one keeps the cost per shading
+            // point constant with many emitting triangles).
+            let (u1, u2) = (stream.next_2d().0, stream.next_2d());
+            if let Some(ls) = tr.data.emitters.sample(sp.p, u1, u2) {
+                let cos = ns.dot(ls.wi);
+                if cos > 0.0 && ng.dot(ls.wi) > 0.0 {
+                    let o = tr.data.ray_offset.origin(sp.p, sp.p_err, ng, ls.wi);
+                    ts.counts.light_sample += 1;
+                    let shadow = Ray::new(o, ls.point - o);
+                    if !tr.occluded(&shadow, LIGHT_T_MAX, &mut ts.scratch) {
+                        l += brdf(ls.wi) * ls.radiance * to_f32(cos / ls.pdf);
+                    }
+                }
+            }
+        }
+        for light in &tr.data.lights {
+            let (wi, radiance) = match *light {
+                DirectLight::Point {
+                    position,
+                    radiance,
+                    inverse_square,
+                    ..
+                }
+                | DirectLight::Spot {
+                    position,
+                    radiance,
+                    inverse_square,
+                    ..
+                } => {
+                    let to = position - sp.p;
+                    let d2 = to.dot(to);
+                    let wi = to / d2.sqrt();
+                    let radiance = if inverse_square {
+                        radiance / to_f32(d2)
+                    } else {
+                        radiance
+                    };
+                    (wi, radiance * light.cone(wi))
+                }
+                DirectLight::Directional { dir, radiance, .. } => (dir, radiance),
+            };
+            if radiance == Rgb::ZERO {
+                continue;
+            }
+            let cos = ns.dot(wi);
+            // The geometric normal decides the side (pbrt's rule): a light
+            // below the surface lights nothing, whatever the shading normal.
+            if !(cos > 0.0) || !(ng.dot(wi) > 0.0) {
+                continue;
+            }
+            if SHADOWS {
+                let (casts, shadow) = match *light {
+                    DirectLight::Point {
+                        position, shadows, ..
+                    }
+                    | DirectLight::Spot {
+                        position, shadows, ..
+                    } => {
+                        let o = tr.data.ray_offset.origin(sp.p, sp.p_err, ng, wi);
+                        (shadows, (Ray::new(o, position - o), point_shadow_t_max()))
+                    }
+                    DirectLight::Directional { shadows, .. } => {
+                        let o = tr.data.ray_offset.origin(sp.p, sp.p_err, ng, wi);
+                        (shadows, (Ray::new(o, wi), Real::INFINITY))
+                    }
+                };
+                if casts {
+                    ts.counts.shadow += 1;
+                    if tr.occluded(&shadow.0, shadow.1, &mut ts.scratch) {
+                        continue;
+                    }
+                }
+            }
+            l += brdf(wi) * radiance * to_f32(cos);
+        }
+        l
+    }
+
+    /// A smooth dielectric: Fresnel-weighted reflection and refraction,
+    /// total internal reflection, radiance scaled by `1/η²` on refraction
+    /// (Suffern's `FresnelTransmitter`) and Beer's law inside.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn dielectric<A>(
+        tr: &Tracer<'_, A>,
+        sh: &Shading,
+        wo: Vec3,
+        ior: f32,
+        tint: Rgb,
+        depth: u32,
+        stream: &mut SampleStream,
+        ts: &mut ThreadState<A::Scratch>,
+    ) -> Rgb
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+    {
+        if depth >= tr.data.max_depth {
+            return Rgb::ZERO;
+        }
+        let ior = ior as Real;
+        // The geometric normal decides inside and outside.
+        let entering = sh.sp.n.dot(wo) > 0.0;
+        // Normals on the side of wo; eta = η_far / η_near.
+        let (ns, ng, eta) = if entering {
+            (sh.ns, sh.sp.n, ior)
+        } else {
+            (-sh.ns, -sh.sp.n, 1.0 / ior)
+        };
+        let ns = secondary_ns(ng, ns, wo);
+        let cos_i = ns.dot(wo);
+        let fr = to_f32(fresnel_dielectric(cos_i, eta));
+        // Beer's law for the part of a ray that runs inside.
+        let absorb = |li: Li| -> Rgb {
+            if tint == Rgb::ONE {
+                li.color
+            } else {
+                li.color * tint.powf(to_f32(li.t))
+            }
+        };
+        let mut l = Rgb::ZERO;
+        if REFLECT && fr > 0.0 {
+            let wr = on_side(reflect(wo, ns), ng, ns, true);
+            let origin = tr.data.ray_offset.origin(sh.sp.p, sh.sp.p_err, ng, wr);
+            ts.counts.reflection += 1;
+            let li = Self::li(tr, &Ray::new(origin, wr), depth + 1, stream, ts);
+            // A reflection from the inside stays inside.
+            l += fr * if entering { li.color } else { absorb(li) };
+        }
+        if fr < 1.0 {
+            if let Some(wt) = refract(wo, ns, eta) {
+                let wt = on_side(wt, ng, ns, false);
+                let origin = tr.data.ray_offset.origin(sh.sp.p, sh.sp.p_err, ng, wt);
+                ts.counts.refraction += 1;
+                let li = Self::li(tr, &Ray::new(origin, wt), depth + 1, stream, ts);
+                let scale = (1.0 - fr) / to_f32(eta * eta);
+                l += scale * if entering { absorb(li) } else { li.color };
+            }
+        }
+        l
+    }
+}
