@@ -61,7 +61,7 @@ pub fn identical(a: &Framebuffer, b: &Framebuffer) -> bool {
 
 /// Samples per pixel: RMSE against a high-spp reference, and time.
 pub fn spp(o: &Opts) -> Res<(String, Vec<Series>)> {
-    let mut scene = fixture_scene("shadows.ron")?;
+    let mut scene = fixture_scene("soft-shadows.ron")?;
     scene.settings.width = o.size.0;
     scene.settings.height = o.size.1;
     let opts = RenderOptions::default();
@@ -89,11 +89,12 @@ pub fn spp(o: &Opts) -> Res<(String, Vec<Series>)> {
     let mut md = String::new();
     let _ = writeln!(
         md,
-        "`fixtures/scenes/shadows.ron` (spheres, a box, hard shadows of a point and a \
-         directional light) at {}×{}: every pixel's samples are jittered in its square, so \
-         edges and shadow boundaries are antialiased; area lights do not exist yet, so \
-         these edges are the only noise. Reference: the same scene at {} samples per \
-         pixel (rendered in {} s). Time: render only, median of {} alternated runs.\n",
+        "`fixtures/scenes/soft-shadows.ron` (two spheres and a box on a floor under a \
+         rectangle and a disk light, Whitted with one light sample per shading point and \
+         pixel sample) at {}×{}: the penumbrae are the noise, and every pixel's samples \
+         are jittered in its square, so edges are antialiased too. Reference: the same \
+         scene at {} samples per pixel (rendered in {} s). Time: render only, median of \
+         {} alternated runs.\n",
         o.size.0,
         o.size.1,
         o.ref_spp,
