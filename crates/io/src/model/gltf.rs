@@ -126,6 +126,25 @@ pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) ->
 fn check_kind(path: &Path, bytes: &[u8]) -> Result<()> {
     let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let first = text.iter().find(|b| !b.is_ascii_whitespace());
+    if let Some(length) = bytes
+        .strip_prefix(b"glTF")
+        .and_then(|rest| rest.get(4..8))
+        .and_then(|b| <[u8; 4]>::try_from(b).ok())
+        .map(u32::from_le_bytes)
+    {
+        // The gltf crate subtracts the 12-byte header from this length
+        // unchecked: a smaller one is refused here.
+        if length < 12 {
+            return Err(Error::gltf(
+                path,
+                "",
+                format!(
+                    "broken GLB header: it gives the file's length as {length} bytes, \
+                     less than the header's own 12 (export the model again)"
+                ),
+            ));
+        }
+    }
     if bytes.starts_with(b"glTF") || first == Some(&b'{') {
         return Ok(());
     }
@@ -734,5 +753,28 @@ mod tests {
         );
         assert_eq!(assemble(&[0, 1, 2, 3], Mode::Triangles), vec![[0, 1, 2]]);
         assert!(assemble(&[0, 1], Mode::TriangleStrip).is_empty());
+    }
+
+    /// A GLB whose header gives a length below its own 12 bytes is an
+    /// error, not an overflow inside the gltf crate (found by fuzzing).
+    #[test]
+    fn a_glb_length_below_its_header_is_an_error() {
+        for length in [0u32, 11] {
+            let mut bytes = b"glTF".to_vec();
+            bytes.extend(2u32.to_le_bytes());
+            bytes.extend(length.to_le_bytes());
+            bytes.extend([0u8; 20]);
+            let e = check_kind(Path::new("m.glb"), &bytes)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("m.glb") && e.contains("broken GLB header"),
+                "{e}"
+            );
+        }
+        let mut ok = b"glTF".to_vec();
+        ok.extend(2u32.to_le_bytes());
+        ok.extend(12u32.to_le_bytes());
+        assert!(check_kind(Path::new("m.glb"), &ok).is_ok());
     }
 }
