@@ -10,6 +10,34 @@ use gridrt_tracer::offset_scenes::{
 };
 use gridrt_tracer::{RayOffset, RenderOptions, Scene};
 
+/// The placements of `scene` at `scales` and offsets 0 to 10⁶ that show
+/// acne or leaks against `reference` (the scene at scale 1), as report
+/// lines. A placement is tried where the scene (a pixel about 0.1 across)
+/// spans at least 64 ulps of the offset, so a pixel is a few ulps wide.
+fn placement_failures(
+    name: &str,
+    scene: fn(Real, Real) -> Scene,
+    reference: &gridrt_tracer::Framebuffer,
+    scales: &[Real],
+) -> Vec<String> {
+    let mut failures = Vec::new();
+    for &scale in scales {
+        for offset in [0.0, 1e3, 1e5, 1e6] {
+            if scale < offset * Real::EPSILON * 64.0 {
+                continue;
+            }
+            let (img, _) = render(&scene(scale, offset));
+            let (acne, leaks) = acne_and_leaks(reference, &img);
+            if acne + leaks > 0 {
+                failures.push(format!(
+                    "{name}: scale {scale:e} offset {offset:e}: {acne} acne, {leaks} leaks"
+                ));
+            }
+        }
+    }
+    failures
+}
+
 #[test]
 fn shadows_hold_at_every_scale_and_offset() {
     let mut failures = Vec::new();
@@ -34,22 +62,12 @@ fn shadows_hold_at_every_scale_and_offset() {
             dark > 40 && lit > 40,
             "{name}: {dark} dark, {lit} lit pixels"
         );
-        for scale in [1e-8, 1e-4, 1e-2, 1.0, 1e2, 1e4, 1e8] {
-            for offset in [0.0, 1e3, 1e5, 1e6] {
-                // The scene (a pixel about 0.1 across) spans at least 64
-                // ulps of the offset, so a pixel is a few ulps wide.
-                if scale < offset * Real::EPSILON * 64.0 {
-                    continue;
-                }
-                let (img, _) = render(&scene(scale, offset));
-                let (acne, leaks) = acne_and_leaks(&reference, &img);
-                if acne + leaks > 0 {
-                    failures.push(format!(
-                        "{name}: scale {scale:e} offset {offset:e}: {acne} acne, {leaks} leaks"
-                    ));
-                }
-            }
-        }
+        failures.extend(placement_failures(
+            name,
+            scene,
+            &reference,
+            &[1e-8, 1e-4, 1e-2, 1.0, 1e2, 1e4, 1e8],
+        ));
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
@@ -105,26 +123,12 @@ fn mirrors_and_glass_hold_at_every_scale_and_offset() {
         if name == "glass" {
             assert!(stats.rays.refraction > 100, "{name}: {:?}", stats.rays);
         }
-        if let Ok(dir) = std::env::var("GRIDRT_DUMP") {
-            dump(&format!("{dir}/{name}.ppm"), &reference);
-        }
-        for scale in [1e-8, 1e-4, 1.0, 1e4, 1e8] {
-            for offset in [0.0, 1e3, 1e5, 1e6] {
-                if scale < offset * Real::EPSILON * 64.0 {
-                    continue;
-                }
-                let (img, _) = render(&scene(scale, offset));
-                let (acne, leaks) = acne_and_leaks(&reference, &img);
-                if acne + leaks > 0 {
-                    if let Ok(dir) = std::env::var("GRIDRT_DUMP") {
-                        dump(&format!("{dir}/{name}-{scale:e}-{offset:e}.ppm"), &img);
-                    }
-                    failures.push(format!(
-                        "{name}: scale {scale:e} offset {offset:e}: {acne} acne, {leaks} leaks"
-                    ));
-                }
-            }
-        }
+        failures.extend(placement_failures(
+            name,
+            scene,
+            &reference,
+            &[1e-8, 1e-4, 1.0, 1e4, 1e8],
+        ));
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     // The comparison does see acne: a fixed offset far too small for f32
@@ -141,14 +145,4 @@ fn mirrors_and_glass_hold_at_every_scale_and_offset() {
         let (acne, leaks) = acne_and_leaks(&reference, &img);
         assert!(acne + leaks > 20, "{acne} acne, {leaks} leaks");
     }
-}
-
-/// A binary PPM of a linear image (clamped, no transfer curve), to look at
-/// a failing case.
-fn dump(path: &str, img: &gridrt_tracer::Framebuffer) {
-    let mut out = format!("P6 {} {} 255\n", img.width, img.height).into_bytes();
-    for p in &img.pixels {
-        out.extend(p.to_array().map(|c| (c.clamp(0.0, 1.0) * 255.0) as u8));
-    }
-    std::fs::write(path, out).expect("write the dump");
 }
