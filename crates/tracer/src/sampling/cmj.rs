@@ -42,7 +42,18 @@ pub(crate) fn permute(mut i: u32, l: u32, p: u32) -> u32 {
             break;
         }
     }
-    (i.wrapping_add(p)) % l
+    rem(i.wrapping_add(p), l)
+}
+
+/// `a % l`, by a mask when `l` is a power of two (the common sample
+/// counts), sparing the division.
+#[inline]
+fn rem(a: u32, l: u32) -> u32 {
+    if l.is_power_of_two() {
+        a & (l - 1)
+    } else {
+        a % l
+    }
 }
 
 /// Kensler's hash to a float in `[0, 1)`.
@@ -78,20 +89,64 @@ pub(crate) fn pixel_pattern(pixel: u64, seed: u32) -> u32 {
 /// Sample `s` of `n` in the unit square for the pattern `p`: stratified in
 /// both dimensions and jittered inside its stratum (the `m × ⌈n/m⌉` grid,
 /// `m = ⌊√n⌋`, works for any `n`, not only squares).
-#[inline]
+#[cfg(test)]
 pub(crate) fn cmj(s: u32, n: u32, p: u32) -> (Real, Real) {
-    debug_assert!(s < n);
-    let m = ((n as f64).sqrt() as u32).max(1);
-    let rows = n.div_ceil(m);
-    let s = permute(s, n, p.wrapping_mul(0x5163_3e2d));
-    let sx = permute(s % m, m, p.wrapping_mul(0x68bc_21eb));
-    let sy = permute(s / m, rows, p.wrapping_mul(0x02e5_be93));
-    let jx = randfloat(s, p.wrapping_mul(0x967a_889b));
-    let jy = randfloat(s, p.wrapping_mul(0x368c_c8b7));
-    let x = (sx as Real + (sy as Real + jx) / rows as Real) / m as Real;
-    let y = (s as Real + jy) / n as Real;
-    // Rounding can reach 1.0 in the last stratum; stay inside the pixel.
-    (x.min(ONE_MINUS_ULP), y.min(ONE_MINUS_ULP))
+    Strata::new(n).cmj(s, p)
+}
+
+/// The `m × rows` strata of `n` samples (`m = ⌊√n⌋`, `rows = ⌈n/m⌉`),
+/// computed once per sample stream rather than per dimension pair.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Strata {
+    n: u32,
+    m: u32,
+    rows: u32,
+    /// `1/n`, `1/m`, `1/rows`: used for the divisions by powers of two,
+    /// where they are exact and so give the same bits as dividing.
+    inv: [Real; 3],
+}
+
+impl Strata {
+    /// The strata of `n > 0` samples.
+    #[inline]
+    pub(crate) fn new(n: u32) -> Self {
+        let m = ((n as f64).sqrt() as u32).max(1);
+        let rows = n.div_ceil(m);
+        let inv = [n, m, rows].map(|d| 1.0 / d as Real);
+        Self { n, m, rows, inv }
+    }
+
+    /// `x / d` for `d` the count `i` (0: n, 1: m, 2: rows).
+    #[inline]
+    fn div(&self, x: Real, i: usize) -> Real {
+        let d = [self.n, self.m, self.rows][i];
+        if d.is_power_of_two() {
+            x * self.inv[i]
+        } else {
+            x / d as Real
+        }
+    }
+
+    /// Correlated multi-jittered sample `s` for the pattern `p`.
+    #[inline]
+    pub(crate) fn cmj(&self, s: u32, p: u32) -> (Real, Real) {
+        let (n, m, rows) = (self.n, self.m, self.rows);
+        debug_assert!(s < n);
+        let s = permute(s, n, p.wrapping_mul(0x5163_3e2d));
+        let (col, row) = if m.is_power_of_two() {
+            (s & (m - 1), s >> m.trailing_zeros())
+        } else {
+            (s % m, s / m)
+        };
+        let sx = permute(col, m, p.wrapping_mul(0x68bc_21eb));
+        let sy = permute(row, rows, p.wrapping_mul(0x02e5_be93));
+        let jx = randfloat(s, p.wrapping_mul(0x967a_889b));
+        let jy = randfloat(s, p.wrapping_mul(0x368c_c8b7));
+        let x = self.div(sx as Real + self.div(sy as Real + jx, 2), 1);
+        let y = self.div(s as Real + jy, 0);
+        // Rounding can reach 1.0 in the last stratum; stay inside the pixel.
+        (x.min(ONE_MINUS_ULP), y.min(ONE_MINUS_ULP))
+    }
 }
 
 /// The largest [`Real`] below 1.
@@ -110,6 +165,36 @@ mod tests {
                     let j = permute(i, l, p) as usize;
                     assert!(!seen[j]);
                     seen[j] = true;
+                }
+            }
+        }
+    }
+
+    /// Kensler's formula with plain remainders and divisions.
+    fn cmj_by_division(s: u32, n: u32, p: u32) -> (Real, Real) {
+        let m = ((n as f64).sqrt() as u32).max(1);
+        let rows = n.div_ceil(m);
+        let s = permute(s, n, p.wrapping_mul(0x5163_3e2d));
+        let sx = permute(s % m, m, p.wrapping_mul(0x68bc_21eb));
+        let sy = permute(s / m, rows, p.wrapping_mul(0x02e5_be93));
+        let jx = randfloat(s, p.wrapping_mul(0x967a_889b));
+        let jy = randfloat(s, p.wrapping_mul(0x368c_c8b7));
+        let x = (sx as Real + (sy as Real + jx) / rows as Real) / m as Real;
+        let y = (s as Real + jy) / n as Real;
+        (x.min(ONE_MINUS_ULP), y.min(ONE_MINUS_ULP))
+    }
+
+    #[test]
+    fn strata_give_the_same_bits_as_dividing() {
+        for n in [1u32, 2, 3, 4, 8, 9, 12, 16, 64, 100, 256, 1000, 1024] {
+            let strata = Strata::new(n);
+            for p in [0u32, 1, 0x1234_5678, 0xdead_beef] {
+                for s in 0..n {
+                    let (a, b) = (strata.cmj(s, p), cmj_by_division(s, n, p));
+                    assert_eq!(
+                        (a.0.to_bits(), a.1.to_bits()),
+                        (b.0.to_bits(), b.1.to_bits())
+                    );
                 }
             }
         }

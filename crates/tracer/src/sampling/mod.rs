@@ -13,11 +13,13 @@ mod filter;
 pub mod maps;
 mod sobol;
 
-pub(crate) use cmj::{cmj, pixel_pattern};
+#[cfg(test)]
+pub(crate) use cmj::cmj;
+pub(crate) use cmj::pixel_pattern;
 pub use filter::Filter;
 pub(crate) use filter::FilterTable;
 
-use cmj::{permute, randfloat, ONE_MINUS_ULP};
+use cmj::{permute, randfloat, Strata, ONE_MINUS_ULP};
 use gridrt_bbox::Real;
 use std::fmt;
 
@@ -90,6 +92,8 @@ pub(crate) struct SampleStream {
     index: u32,
     /// Samples per pixel.
     n: u32,
+    /// The multi-jittered strata of `n` samples.
+    strata: Strata,
     /// The next dimension pair.
     pair: u32,
 }
@@ -105,6 +109,7 @@ impl SampleStream {
             base: pixel_pattern(pixel, 0x5eed),
             index,
             n,
+            strata: Strata::new(n),
             pair: 0,
         }
     }
@@ -158,7 +163,7 @@ impl SampleStream {
                 let y = (((k / m) as Real + jy) / rows as Real).min(ONE_MINUS_ULP);
                 (x, y)
             }
-            SamplerKind::MultiJittered => cmj(s, n, seed),
+            SamplerKind::MultiJittered => self.strata.cmj(s, seed),
             SamplerKind::Hammersley => {
                 let k = permute(s, n, seed);
                 // One shift per pixel and pair (a Cranley-Patterson rotation).
