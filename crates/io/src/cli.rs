@@ -186,6 +186,11 @@ pub struct AccelArgs {
     /// as --grid-m 0.3 --grid-nest 8 --grid-nest-m 0.7.
     #[arg(long = "grid-nest-m", value_name = "M", value_parser = parse_grid_m)]
     pub grid_nest_m: Option<f64>,
+    /// The most memory, in MiB, the grid's index (cells, references and
+    /// nested grids) may take; reaching it stops subdividing, never fails.
+    /// Default: 8 times the primitives' own size, and at least 4 MiB.
+    #[arg(long = "grid-memory", value_name = "MIB", value_parser = parse_grid_memory)]
+    pub grid_memory: Option<usize>,
 }
 
 /// `--accel` values.
@@ -240,9 +245,24 @@ fn parse_grid_m(s: &str) -> std::result::Result<f64, String> {
     }
 }
 
+/// `--grid-memory MIB` in bytes: a whole number of MiB from 1 to 1 TiB.
+fn parse_grid_memory(s: &str) -> std::result::Result<usize, String> {
+    let mib: usize = s
+        .parse()
+        .map_err(|_| format!("`{s}` is not a whole number of MiB"))?;
+    if (1..=1 << 20).contains(&mib) {
+        Ok(mib << 20)
+    } else {
+        Err(format!("{mib} MiB is out of range: use 1 to 1048576"))
+    }
+}
+
 impl AccelArgs {
     pub(crate) fn grid_config(&self) -> GridConfig {
-        let mut g = GridConfig::default();
+        let mut g = GridConfig {
+            memory_budget: self.grid_memory,
+            ..GridConfig::default()
+        };
         if let Some(m) = self.grid_m {
             g.m = m as Real;
         }

@@ -268,3 +268,28 @@ fn render_stats_hold_the_figures_and_the_summary_a_speed() {
         }
     }
 }
+
+#[test]
+fn grid_memory_caps_absurd_settings_and_keeps_the_answers() {
+    let dir = tempfile::tempdir().unwrap();
+    stadium(dir.path(), 1024);
+    let run = |extra: &[&str]| {
+        let mut args = vec!["rays", "stadium.obj", "rays.csv", "--stats", "s.json"];
+        args.extend_from_slice(extra);
+        let out = ok(&gridrt(&args, dir.path()));
+        (out, json(&dir.path().join("s.json")))
+    };
+    let (reference, _) = run(&["--accel", "exhaustive"]);
+    // One nested grid per cell of a single reference, a thousand cells per
+    // primitive: far over a MiB if nothing stopped it.
+    let (out, j) = run(&["--grid-nest", "1", "--grid-m", "1000", "--grid-memory", "1"]);
+    assert_eq!(j["grid"]["budget"].as_u64(), Some(1 << 20), "{j}");
+    assert!(j["bytes"].as_u64().unwrap() <= 1 << 20, "{j}");
+    assert_eq!(out, reference);
+    let o = gridrt(
+        &["rays", "stadium.obj", "rays.csv", "--grid-memory", "0"],
+        dir.path(),
+    );
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--grid-memory"));
+}
