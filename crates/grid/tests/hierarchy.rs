@@ -308,7 +308,6 @@ fn a_fan_of_4000_triangles_never_costs_more_than_exhaustive() {
             let counters = if i % 2 == 0 { &mut near } else { &mut all };
             g.closest_hit_counted(&ray, 0.0, Real::INFINITY, &mut scratch, counters);
         }
-
         assert!(
             near.tests_per_ray() <= total,
             "near the vertex: {near:?} {:?}",
