@@ -16,7 +16,11 @@
 //! repeated), (3) the depth is below [`MAX_DEPTH`], and (4) the memory
 //! budget still has room for it. A grid is not built at all when its cells
 //! would hold on average more than [`SEPARATION`] of the references (nothing
-//! separates them: walking it would cost more than testing them). Every
+//! separates them: walking it would cost more than testing them), or when
+//! more than [`MAX_HEAVY`] of its cells would each hold more than
+//! [`PROGRESS`] of them (an unseparated core, as around the common vertex
+//! of a fan: a ray crossing two such cells would test more than the cell
+//! holds, and more than the exhaustive baseline on a scene of one fan). Every
 //! rule only ever stops subdividing: a cell without a nested grid tests its
 //! references, so the answers never depend on where the recursion ended.
 //!
@@ -55,6 +59,14 @@ pub(crate) const PROGRESS: f64 = 0.5;
 /// A nested grid is built only if its occupied cells hold on average at
 /// most this fraction of the parent cell's references.
 pub(crate) const SEPARATION: f64 = 0.75;
+
+/// A nested grid is built only if at most this many of its cells hold more
+/// than [`PROGRESS`] of the parent cell's references: where references
+/// never separate (the spokes of a fan around their common vertex, a stack
+/// of coincident triangles straddling a cell plane), several cells would
+/// each hold nearly all of them, and a ray crossing two of them would test
+/// more primitives than the cell holds.
+pub(crate) const MAX_HEAVY: usize = 1;
 
 /// How the hierarchy is built.
 #[derive(Clone, Copy, Debug)]
@@ -483,6 +495,17 @@ fn plan<P: Primitive>(
     let occupied = offsets[1..].iter().filter(|&&n| n > 0).count().max(1);
     let total: u64 = offsets.iter().map(|&n| u64::from(n)).sum();
     if total as f64 > SEPARATION * refs.len() as f64 * occupied as f64 {
+        return None;
+    }
+    // The unseparated core: a ray that crossed two cells holding more than
+    // half of the references each would test more than the cell holds.
+    let heavy = PROGRESS * refs.len() as f64;
+    if offsets[1..]
+        .iter()
+        .filter(|&&n| f64::from(n) > heavy)
+        .count()
+        > MAX_HEAVY
+    {
         return None;
     }
     for c in 0..count {

@@ -245,3 +245,78 @@ fn a_wall_crossing_the_crowded_cell_is_tested_directly() {
     assert!(g.stats().nested_cells > 0);
     assert!(c.tests_per_ray() < 100.0, "{c:?} {:?}", g.stats());
 }
+
+/// A fan of 4,000 triangles around one vertex in a large room: the
+/// references never separate near the common vertex, so nesting must not
+/// make a ray test more primitives than the exhaustive baseline does
+/// (without mailboxing, every nested cell around the vertex holds most of
+/// the fan), for rays aimed at the vertex and at the rest of the fan.
+#[test]
+fn a_fan_of_4000_triangles_never_costs_more_than_exhaustive() {
+    use gridrt_grid::QueryCounters;
+    let n = 4000;
+    // Off the flat grid's cell planes, so that one flat cell holds the fan.
+    let centre = Vec3::new(41.25, -0.5, 41.75);
+    let rim = |i: usize| {
+        let a = i as Real * std::f64::consts::TAU as Real / n as Real;
+        // A wavy rim, so the fan is not flat.
+        centre + Vec3::new(a.cos(), 0.3 * (7.0 * a).sin(), a.sin())
+    };
+    let mut scene: Vec<Triangle> = (0..n)
+        .map(|i| Triangle::new(centre, rim(i), rim(i + 1)))
+        .collect();
+    for k in [-1.0 as Real, 1.0] {
+        let p = Vec3::splat(500.0 * k);
+        scene.push(Triangle::new(p, p + Vec3::X, p + Vec3::Y));
+    }
+    let total = scene.len() as f64;
+    let configs = [
+        GridConfig::default(),
+        GridConfig {
+            nest_min_refs: 8,
+            ..GridConfig::default()
+        },
+        GridConfig {
+            nest_min_refs: 2,
+            nest_m: Some(2.0),
+            ..GridConfig::default()
+        },
+    ];
+    let mut checked = configs.to_vec();
+    checked.extend(configs.iter().map(|c| GridConfig {
+        mailbox: true,
+        ..*c
+    }));
+    let checker = Checker::new(scene.clone(), &checked);
+    for c in &configs {
+        let g = Grid::build(scene.clone(), c);
+        g.check_invariants().expect("a valid grid");
+        let mut scratch = gridrt_grid::Accelerator::scratch(&g);
+        let mut near = QueryCounters::default();
+        let mut all = QueryCounters::default();
+        for i in 0..200 {
+            let a = i as Real * 0.37;
+            let from = centre + Vec3::new(0.7 * a.sin(), 2.0, 0.7 * a.cos());
+            // Half of the rays at the common vertex (within 10⁻³), half anywhere on the fan.
+            let to = if i % 2 == 0 {
+                centre + Vec3::new(a.cos(), 0.0, a.sin()) * 1e-3
+            } else {
+                centre + Vec3::new(a.cos(), 0.0, a.sin()) * (0.1 + 0.8 * (i as Real / 200.0))
+            };
+            let ray = Ray::new(from, to - from);
+            checker.check(&ray, 0.0, Real::INFINITY);
+            let counters = if i % 2 == 0 { &mut near } else { &mut all };
+            g.closest_hit_counted(&ray, 0.0, Real::INFINITY, &mut scratch, counters);
+        }
+        assert!(
+            near.tests_per_ray() <= total,
+            "near the vertex: {near:?} {:?}",
+            g.stats()
+        );
+        assert!(
+            all.tests_per_ray() <= total,
+            "on the fan: {all:?} {:?}",
+            g.stats()
+        );
+    }
+}
