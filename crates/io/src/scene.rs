@@ -283,7 +283,14 @@ impl<'a> Builder<'a> {
 
     fn build(mut self, file: SceneFile) -> Result<LoadedScene> {
         for (name, desc) in &file.materials.0 {
-            let id = self.push_material(name.clone(), desc.material());
+            let material = desc.material().map_err(|(field, msg)| {
+                Error::scene(
+                    self.path,
+                    self.place(None, "materials"),
+                    format!("material \"{name}\", field {field}: {msg}"),
+                )
+            })?;
+            let id = self.push_material(name.clone(), material);
             if let Some(t) = desc.texture() {
                 crate::schema_textures::bind(&mut self.textures, id, t);
             }

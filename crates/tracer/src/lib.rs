@@ -70,6 +70,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod aov;
+mod bsdf;
 mod camera;
 mod emitters;
 mod error;
@@ -107,8 +108,8 @@ pub use render::{render, AccelKind, RenderOptions, RenderStats, Renderer};
 pub use robustness::{RayOffset, TriangleTest};
 pub use sampling::{Filter, SamplerKind};
 pub use scene::{
-    Camera, EnvImage, Geometry, IntegratorChoice, Light, Material, MaterialId, Mesh, Object,
-    Projection, Rgb, Scene, Settings, SphereSet,
+    Camera, ConductorFresnel, EnvImage, Geometry, IntegratorChoice, Light, Material, MaterialId,
+    Mesh, Object, Projection, Rgb, Scene, Settings, SphereSet,
 };
 pub use shapes::{Cuboid, MtTriangle, Plane, Shape, Sphere, Triangle, MT_EPSILON};
 pub use texture::{MaterialMaps, Texture, TextureRef, Textures};

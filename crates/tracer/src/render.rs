@@ -604,16 +604,22 @@ impl Job<'_> {
         A: Accelerator,
         A::Prim: Surface,
     {
-        // Refraction always comes with (Fresnel) reflection.
-        match (plan.reflection, plan.refraction) {
-            (false, false) => {
-                self.pick_jitter::<A, Whitted<SHADOWS, false, false, AREA>>(accel, data, plan)
+        // Refraction always comes with (Fresnel) reflection, and glossy
+        // rays only come with reflection.
+        match (plan.reflection, plan.refraction, plan.glossy) {
+            (false, false, _) => self
+                .pick_jitter::<A, Whitted<SHADOWS, false, false, AREA, false>>(accel, data, plan),
+            (true, false, false) => {
+                self.pick_jitter::<A, Whitted<SHADOWS, true, false, AREA, false>>(accel, data, plan)
             }
-            (true, false) => {
-                self.pick_jitter::<A, Whitted<SHADOWS, true, false, AREA>>(accel, data, plan)
+            (true, false, true) => {
+                self.pick_jitter::<A, Whitted<SHADOWS, true, false, AREA, true>>(accel, data, plan)
             }
-            (_, true) => {
-                self.pick_jitter::<A, Whitted<SHADOWS, true, true, AREA>>(accel, data, plan)
+            (_, true, false) => {
+                self.pick_jitter::<A, Whitted<SHADOWS, true, true, AREA, false>>(accel, data, plan)
+            }
+            (_, true, true) => {
+                self.pick_jitter::<A, Whitted<SHADOWS, true, true, AREA, true>>(accel, data, plan)
             }
         }
     }
