@@ -97,7 +97,7 @@ pub(crate) struct SceneFile {
     pub objects: Vec<ObjectDesc>,
 }
 
-/// `Camera(eye: (..), look_at: (..), up: (..), projection: ...)`.
+/// `Camera(eye: (..), look_at: (..), up: (..), projection: ..., lens_radius: 0, focus_distance: ..)`.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields, rename = "Camera")]
 pub(crate) struct CameraDesc {
@@ -107,6 +107,13 @@ pub(crate) struct CameraDesc {
     pub up: Dir,
     #[serde(default)]
     pub projection: ProjectionDesc,
+    /// The thin lens's radius (aperture), world units; 0 is a pinhole.
+    #[serde(default)]
+    pub lens_radius: NonNeg,
+    /// Distance from the eye to the plane in focus, along the view
+    /// direction (needed when `lens_radius` > 0).
+    #[serde(default)]
+    pub focus_distance: Option<Positive>,
 }
 
 fn default_up() -> Dir {

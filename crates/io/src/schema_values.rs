@@ -38,8 +38,8 @@ impl TryFrom<f64> for Positive {
     }
 }
 
-/// A finite number ≥ 0.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+/// A finite number ≥ 0 (default 0).
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq)]
 #[serde(try_from = "f64")]
 pub(crate) struct NonNeg(pub f64);
 

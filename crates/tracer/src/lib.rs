@@ -23,6 +23,7 @@
 //!         look_at: Vec3::ZERO,
 //!         up: Vec3::Y,
 //!         projection: Projection::Perspective { vfov_deg: 40.0 },
+//!         lens: None,
 //!     },
 //!     settings: Settings { width: 32, height: 24, ..Settings::default() },
 //!     materials: vec![Material::Matte { color: Rgb::new(0.8, 0.3, 0.2), ka: 0.1, kd: 0.9 }],
@@ -109,7 +110,7 @@ pub use robustness::{RayOffset, TriangleTest};
 pub use sampling::{Filter, SamplerKind};
 pub use scene::{
     Camera, ConductorFresnel, EnvImage, Geometry, IntegratorChoice, Light, Material, MaterialId,
-    Mesh, Object, Projection, Rgb, Scene, Settings, SphereSet,
+    Mesh, Object, Projection, Rgb, Scene, Settings, SphereSet, ThinLens,
 };
 pub use shapes::{Cuboid, MtTriangle, Plane, Shape, Sphere, Triangle, MT_EPSILON};
 pub use texture::{MaterialMaps, Texture, TextureRef, Textures};

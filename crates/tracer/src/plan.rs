@@ -165,6 +165,9 @@ pub struct EffectPlan {
     /// Whether the environment's image is importance-sampled for light
     /// (path tracing with an image environment).
     pub env_sampling: bool,
+    /// Whether camera rays start on a thin lens (a lens radius > 0): depth
+    /// of field. Off: pinhole rays, and no lens sample is drawn.
+    pub depth_of_field: bool,
 }
 
 impl EffectPlan {
@@ -369,6 +372,7 @@ impl EffectPlan {
             indirect: false,
             environment,
             env_sampling: false,
+            depth_of_field: scene.camera.lens.is_some_and(|l| l.radius > 0.0),
         }
     }
 
@@ -400,6 +404,7 @@ impl EffectPlan {
             indirect: indirect && depth > 0,
             environment: false,
             env_sampling: false,
+            depth_of_field: scene.camera.lens.is_some_and(|l| l.radius > 0.0),
         }
     }
 }
@@ -476,6 +481,9 @@ impl fmt::Display for EffectPlan {
         }
         if self.integrator != IntegratorKind::Path && self.light_sampling {
             writeln!(f, "area lights {} sampled (soft shadows)", self.area_lights)?;
+        }
+        if self.depth_of_field {
+            writeln!(f, "lens        thin lens (depth of field)")?;
         }
         writeln!(f, "reflection  {}", on_off(self.reflection))?;
         write!(f, "refraction  {}", on_off(self.refraction))

@@ -101,6 +101,22 @@ pub struct Camera {
     pub up: Vec3,
     /// How image positions map to rays.
     pub projection: Projection,
+    /// A thin lens for depth of field; `None` (or a radius of 0) is a
+    /// pinhole, whose rays all start at the eye.
+    pub lens: Option<ThinLens>,
+}
+
+/// A thin lens (pbrt's `ProjectiveCamera`): rays start on a disk of radius
+/// `radius` about the eye, in the image plane, and pass through the point
+/// where the pinhole ray meets the plane of focus, `focus_distance` in
+/// front of the eye along the view direction. Only that plane is sharp.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ThinLens {
+    /// The aperture's radius in world units (≥ 0; 0 is a pinhole).
+    pub radius: Real,
+    /// Distance from the eye to the plane in focus, along the view
+    /// direction (> 0 when `radius` > 0).
+    pub focus_distance: Real,
 }
 
 /// Camera projections.

@@ -641,6 +641,7 @@ fn camera(cam: &gltf::Camera, world: &DMat4) -> Option<ModelCamera> {
             look_at: to_vec3(eye + fwd),
             up: to_vec3(up),
             projection,
+            lens: None,
         },
         aspect: aspect.filter(|a| a.is_finite() && *a > 0.0),
     })
