@@ -36,6 +36,7 @@ pub fn close_up(shared: &Path) -> Option<CloseUp> {
         look_at: CLOSE.look_at,
         up: gridrt_grid::Vec3::Y,
         projection: Projection::Perspective { vfov_deg: 40.0 },
+        lens: None,
     };
     scene.settings.width = 640;
     scene.settings.height = 480;

@@ -1,6 +1,6 @@
 //! The command line's view and depth overrides: `--camera` picks a camera
-//! of a glTF model by name; `--eye`, `--look-at`, `--up`, `--fov` and
-//! `--max-depth` then replace the scene's (or the framed model's) camera
+//! of a glTF model by name; `--eye`, `--look-at`, `--up`, `--fov`,
+//! `--aperture`, `--focus-distance` and `--max-depth` then replace the scene's (or the framed model's) camera
 //! and settings, checked as a scene file's would be.
 
 use crate::error::{Error, Result};
@@ -8,7 +8,7 @@ use crate::schema::MAX_DEPTH;
 use crate::LoadedScene;
 use clap::Args;
 use gridrt_bbox::{Real, Vec3};
-use gridrt_tracer::Projection;
+use gridrt_tracer::{Projection, ThinLens};
 
 /// Camera and depth overrides of `gridrt render`.
 #[derive(Debug, Clone, Default, Args)]
@@ -34,6 +34,15 @@ pub struct ViewArgs {
     /// ray, 0 to 64 (overrides the scene's `max_depth`).
     #[arg(long = "max-depth", value_name = "N")]
     pub max_depth: Option<u32>,
+    /// Radius of the camera's thin lens in world units (depth of field);
+    /// 0 is a pinhole. Needs a focus distance (`--focus-distance`, or the
+    /// scene camera's `focus_distance`).
+    #[arg(long, value_name = "R")]
+    pub aperture: Option<f64>,
+    /// Distance from the eye to the plane in focus, along the view
+    /// direction (> 0).
+    #[arg(long = "focus-distance", value_name = "D")]
+    pub focus_distance: Option<f64>,
 }
 
 /// Parses `X,Y,Z` (three finite numbers separated by commas).
@@ -130,6 +139,39 @@ impl ViewArgs {
                 vfov_deg: f as Real,
             };
         }
+        if self.aperture.is_some() || self.focus_distance.is_some() {
+            let radius = self
+                .aperture
+                .unwrap_or_else(|| cam.lens.map_or(0.0, |l| f64::from(l.radius)));
+            if !(radius >= 0.0 && radius.is_finite()) {
+                return Err(Error::arg(
+                    "--aperture",
+                    format!("{radius} is not a lens radius: use a number >= 0 (0 is a pinhole)"),
+                ));
+            }
+            let focus = self
+                .focus_distance
+                .or_else(|| cam.lens.map(|l| f64::from(l.focus_distance)));
+            if let Some(f) = focus {
+                if !(f > 0.0 && f.is_finite()) {
+                    return Err(Error::arg(
+                        "--focus-distance",
+                        format!("{f} is not a distance to the plane in focus: use a number > 0"),
+                    ));
+                }
+            }
+            cam.lens = match (radius > 0.0, focus) {
+                (false, _) => None,
+                (true, Some(f)) => Some(ThinLens {
+                    radius: radius as Real,
+                    focus_distance: f as Real,
+                }),
+                (true, None) => return Err(Error::arg(
+                    "--aperture",
+                    "a lens radius > 0 needs --focus-distance (the distance to the plane in focus)",
+                )),
+            };
+        }
         if let Some(d) = self.max_depth {
             if d > MAX_DEPTH {
                 return Err(Error::arg(
@@ -193,6 +235,37 @@ mod tests {
             ..ViewArgs::default()
         };
         assert!(bad(depth).contains("--max-depth"));
+        let lens = ViewArgs {
+            aperture: Some(0.1),
+            focus_distance: Some(4.0),
+            ..ViewArgs::default()
+        };
+        let mut t = s.clone();
+        lens.apply(&mut t).unwrap();
+        assert_eq!(
+            t.scene.camera.lens,
+            Some(ThinLens {
+                radius: 0.1,
+                focus_distance: 4.0
+            })
+        );
+        let no_focus = ViewArgs {
+            aperture: Some(0.1),
+            ..ViewArgs::default()
+        };
+        assert!(bad(no_focus).contains("--focus-distance"));
+        let negative = ViewArgs {
+            aperture: Some(-1.0),
+            focus_distance: Some(4.0),
+            ..ViewArgs::default()
+        };
+        assert!(bad(negative).contains("--aperture"));
+        let zero_focus = ViewArgs {
+            aperture: Some(0.1),
+            focus_distance: Some(0.0),
+            ..ViewArgs::default()
+        };
+        assert!(bad(zero_focus).contains("--focus-distance"));
         let named = ViewArgs {
             camera: Some("top".into()),
             ..ViewArgs::default()

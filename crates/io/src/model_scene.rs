@@ -33,6 +33,7 @@ pub fn frame(bounds: Aabb, vfov_deg: f64, aspect: f64) -> Camera {
         projection: Projection::Perspective {
             vfov_deg: vfov_deg as Real,
         },
+        lens: None,
     }
 }
 

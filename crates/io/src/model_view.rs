@@ -83,6 +83,7 @@ pub(crate) fn room_camera(b: Aabb, open: DVec3, aspect: f64) -> Camera {
         projection: Projection::Perspective {
             vfov_deg: vfov as Real,
         },
+        lens: None,
     }
 }
 

@@ -16,7 +16,7 @@ use glam::{DMat4, DVec3};
 use gridrt_bbox::{Aabb, Real, Vec3};
 use gridrt_tracer::{
     Camera, Geometry, Light, Material, MaterialId, Object, Projection, Rgb, Scene, Settings,
-    Textures,
+    Textures, ThinLens,
 };
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -283,7 +283,14 @@ impl<'a> Builder<'a> {
 
     fn build(mut self, file: SceneFile) -> Result<LoadedScene> {
         for (name, desc) in &file.materials.0 {
-            let id = self.push_material(name.clone(), desc.material());
+            let material = desc.material().map_err(|(field, msg)| {
+                Error::scene(
+                    self.path,
+                    self.place(None, "materials"),
+                    format!("material \"{name}\", field {field}: {msg}"),
+                )
+            })?;
+            let id = self.push_material(name.clone(), material);
             if let Some(t) = desc.texture() {
                 crate::schema_textures::bind(&mut self.textures, id, t);
             }
@@ -432,11 +439,28 @@ impl<'a> Builder<'a> {
                 height: height.0 as Real,
             },
         };
+        let lens = if c.lens_radius.0 > 0.0 {
+            let Some(focus) = c.focus_distance else {
+                return Err(Error::scene(
+                    self.path,
+                    self.place(Some("lens_radius"), what),
+                    "lens_radius > 0 needs focus_distance (the distance to the plane in focus, > 0); \
+                     use lens_radius: 0 for a pinhole",
+                ));
+            };
+            Some(ThinLens {
+                radius: c.lens_radius.0 as Real,
+                focus_distance: focus.0 as Real,
+            })
+        } else {
+            None
+        };
         Ok(Camera {
             eye,
             look_at: at,
             up: to_vec3(up),
             projection,
+            lens,
         })
     }
 

@@ -9,7 +9,7 @@
 //! field with an example; keep it in step.
 
 use crate::schema_textures::TextureDesc;
-use gridrt_tracer::Material;
+use gridrt_tracer::{ConductorFresnel, Material};
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::Deserialize;
 use std::fmt;
@@ -97,7 +97,7 @@ pub(crate) struct SceneFile {
     pub objects: Vec<ObjectDesc>,
 }
 
-/// `Camera(eye: (..), look_at: (..), up: (..), projection: ...)`.
+/// `Camera(eye: (..), look_at: (..), up: (..), projection: ..., lens_radius: 0, focus_distance: ..)`.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields, rename = "Camera")]
 pub(crate) struct CameraDesc {
@@ -107,6 +107,13 @@ pub(crate) struct CameraDesc {
     pub up: Dir,
     #[serde(default)]
     pub projection: ProjectionDesc,
+    /// The thin lens's radius (aperture), world units; 0 is a pinhole.
+    #[serde(default)]
+    pub lens_radius: NonNeg,
+    /// Distance from the eye to the plane in focus, along the view
+    /// direction (needed when `lens_radius` > 0).
+    #[serde(default)]
+    pub focus_distance: Option<Positive>,
 }
 
 fn default_up() -> Dir {
@@ -191,12 +198,40 @@ pub(crate) enum MaterialDesc {
         #[serde(default)]
         texture: Option<TextureDesc>,
     },
-    /// `Dielectric(ior: 1.5, tint: (1, 1, 1))`.
+    /// `Dielectric(ior: 1.5, tint: (1, 1, 1), roughness: 0)`; roughness > 0
+    /// is rough (frosted) glass.
     Dielectric {
         #[serde(default = "default_ior")]
         ior: Ior,
         #[serde(default = "white")]
         tint: Color,
+        #[serde(default)]
+        roughness: Unit,
+    },
+    /// `Conductor(color: (0.95, 0.64, 0.54), roughness: 0.3)` (Schlick's
+    /// Fresnel from the colour at normal incidence) or
+    /// `Conductor(eta: (0.2, 0.92, 1.1), k: (3.9, 2.45, 2.14), roughness: 0.3)`
+    /// (a complex index of refraction).
+    Conductor {
+        #[serde(default)]
+        color: Option<UnitColor>,
+        #[serde(default)]
+        eta: Option<Color>,
+        #[serde(default)]
+        k: Option<Color>,
+        #[serde(default)]
+        roughness: Unit,
+    },
+    /// glTF's `MetallicRoughness(base: (1, 1, 1), metallic: 1, roughness: 1)`.
+    MetallicRoughness {
+        #[serde(default = "unit_white")]
+        base: UnitColor,
+        #[serde(default = "unit_one")]
+        metallic: Unit,
+        #[serde(default = "unit_one")]
+        roughness: Unit,
+        #[serde(default)]
+        texture: Option<TextureDesc>,
     },
     /// `Emissive(color: (1, 1, 1), strength: 1)`.
     Emissive {
@@ -207,6 +242,12 @@ pub(crate) enum MaterialDesc {
     },
 }
 
+fn unit_white() -> UnitColor {
+    UnitColor([1.0; 3])
+}
+fn unit_one() -> Unit {
+    Unit(1.0)
+}
 fn default_albedo() -> Color {
     gray(0.8)
 }
@@ -509,13 +550,17 @@ impl MaterialDesc {
         match self {
             MaterialDesc::Matte { texture, .. }
             | MaterialDesc::Phong { texture, .. }
-            | MaterialDesc::Reflective { texture, .. } => texture.as_ref(),
-            MaterialDesc::Dielectric { .. } | MaterialDesc::Emissive { .. } => None,
+            | MaterialDesc::Reflective { texture, .. }
+            | MaterialDesc::MetallicRoughness { texture, .. } => texture.as_ref(),
+            MaterialDesc::Dielectric { .. }
+            | MaterialDesc::Conductor { .. }
+            | MaterialDesc::Emissive { .. } => None,
         }
     }
 
-    pub(crate) fn material(&self) -> Material {
-        match self {
+    /// The tracer's material, or the field that is wrong and why.
+    pub(crate) fn material(&self) -> Result<Material, (&'static str, String)> {
+        Ok(match self {
             MaterialDesc::Matte { color, ka, kd, .. } => Material::Matte {
                 color: rgb(color.0),
                 ka: f64_to_f32(ka.0),
@@ -555,15 +600,73 @@ impl MaterialDesc {
                 kr: f64_to_f32(kr.0),
                 reflect: rgb(reflect.0),
             },
-            MaterialDesc::Dielectric { ior, tint } => Material::Dielectric {
-                ior: f64_to_f32(ior.0),
-                tint: rgb(tint.0),
+            MaterialDesc::Dielectric {
+                ior,
+                tint,
+                roughness,
+            } => {
+                if roughness.0 > 0.0 {
+                    Material::RoughDielectric {
+                        ior: f64_to_f32(ior.0),
+                        tint: rgb(tint.0),
+                        roughness: f64_to_f32(roughness.0),
+                    }
+                } else {
+                    Material::Dielectric {
+                        ior: f64_to_f32(ior.0),
+                        tint: rgb(tint.0),
+                    }
+                }
+            }
+            MaterialDesc::Conductor {
+                color,
+                eta,
+                k,
+                roughness,
+            } => {
+                let fresnel =
+                    match (color, eta, k) {
+                        (Some(_), Some(_), _) | (Some(_), _, Some(_)) => return Err((
+                            "color",
+                            "give either color (Schlick) or eta and k (a complex index), not both"
+                                .into(),
+                        )),
+                        (None, None, Some(_)) => {
+                            return Err(("k", "k needs eta (the real part of the index)".into()))
+                        }
+                        (_, Some(eta), k) => {
+                            if eta.0.iter().any(|&x| x <= 0.0) {
+                                return Err(("eta", "every component of eta must be > 0".into()));
+                            }
+                            ConductorFresnel::Complex {
+                                eta: rgb(eta.0),
+                                k: rgb(k.map_or([0.0; 3], |k| k.0)),
+                            }
+                        }
+                        (c, None, None) => ConductorFresnel::Schlick {
+                            f0: rgb(c.map_or([0.9; 3], |c| c.0)),
+                        },
+                    };
+                Material::Conductor {
+                    fresnel,
+                    roughness: f64_to_f32(roughness.0),
+                }
+            }
+            MaterialDesc::MetallicRoughness {
+                base,
+                metallic,
+                roughness,
+                ..
+            } => Material::MetallicRoughness {
+                base: rgb(base.0),
+                metallic: f64_to_f32(metallic.0),
+                roughness: f64_to_f32(roughness.0),
             },
             MaterialDesc::Emissive { color, strength } => Material::Emissive {
                 color: rgb(color.0),
                 strength: f64_to_f32(strength.0),
             },
-        }
+        })
     }
 }
 

@@ -38,8 +38,8 @@ impl TryFrom<f64> for Positive {
     }
 }
 
-/// A finite number ≥ 0.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+/// A finite number ≥ 0 (default 0).
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq)]
 #[serde(try_from = "f64")]
 pub(crate) struct NonNeg(pub f64);
 
@@ -110,6 +110,41 @@ impl TryFrom<[f64; 3]> for Color {
         } else {
             Err(format!(
                 "expected a colour (r, g, b) with finite components >= 0, found ({}, {}, {})",
+                c[0], c[1], c[2]
+            ))
+        }
+    }
+}
+
+/// A number in `[0, 1]` (roughness, metalness).
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq)]
+#[serde(try_from = "f64")]
+pub(crate) struct Unit(pub f64);
+
+impl TryFrom<f64> for Unit {
+    type Error = String;
+    fn try_from(x: f64) -> Result<Self, String> {
+        if (0.0..=1.0).contains(&x) {
+            Ok(Self(x))
+        } else {
+            Err(format!("expected a number in [0, 1], found {x}"))
+        }
+    }
+}
+
+/// A reflectance `(r, g, b)`, components in `[0, 1]`.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(try_from = "[f64; 3]")]
+pub(crate) struct UnitColor(pub [f64; 3]);
+
+impl TryFrom<[f64; 3]> for UnitColor {
+    type Error = String;
+    fn try_from(c: [f64; 3]) -> Result<Self, String> {
+        if c.iter().all(|x| (0.0..=1.0).contains(x)) {
+            Ok(Self(c))
+        } else {
+            Err(format!(
+                "expected a reflectance (r, g, b) with components in [0, 1], found ({}, {}, {})",
                 c[0], c[1], c[2]
             ))
         }

@@ -75,6 +75,27 @@ const CASES: &[(&str, &[&str])] = &[
         &["ron_empty_scene.ron:2:", "no objects"],
     ),
     (
+        "ron_lens_without_focus.ron",
+        &[
+            "ron_lens_without_focus.ron:2:",
+            "lens_radius",
+            "focus_distance",
+        ],
+    ),
+    (
+        "ron_zero_focus_distance.ron",
+        &["ron_zero_focus_distance.ron:2:", "expected a number > 0"],
+    ),
+    (
+        "ron_conductor_two_fresnels.ron",
+        &[
+            "ron_conductor_two_fresnels.ron:2:",
+            "\"metal\"",
+            "color",
+            "not both",
+        ],
+    ),
+    (
         "ron_camera_eye_at_look_at.ron",
         &["ron_camera_eye_at_look_at.ron:2:", "camera", "same point"],
     ),

@@ -131,10 +131,26 @@ fn gltf_materials_cameras_and_lights() {
             Material::Reflective { .. } => "reflective",
             Material::Dielectric { .. } => "dielectric",
             Material::Emissive { .. } => "emissive",
+            Material::Conductor { .. } => "conductor",
+            Material::RoughDielectric { .. } => "rough dielectric",
+            Material::MetallicRoughness { .. } => "metallic-roughness",
         })
         .collect();
     // BLEND is the material's alpha mode (a simple transmission), not glass.
-    assert_eq!(kinds, ["matte", "reflective", "emissive", "reflective"]);
+    // Every reflecting glTF material is the specification's BRDF.
+    assert_eq!(
+        kinds,
+        [
+            "metallic-roughness",
+            "metallic-roughness",
+            "emissive",
+            "metallic-roughness"
+        ]
+    );
+    assert!(matches!(
+        m.materials[1].material,
+        Material::MetallicRoughness { metallic, roughness, .. } if metallic == 1.0 && roughness == 0.05
+    ));
     assert_eq!(
         m.materials[3].maps.alpha_mode,
         gridrt_tracer::texture::AlphaMode::Blend

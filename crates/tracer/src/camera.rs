@@ -3,6 +3,7 @@
 
 use crate::error::SceneError;
 use crate::float::to_f64;
+use crate::sampling::maps::concentric_disk;
 use crate::scene::{Camera, Projection};
 use gridrt_bbox::{Ray, Real, Vec3};
 
@@ -23,6 +24,8 @@ pub(crate) struct CameraModel {
     pixel_size: Real,
     /// Eye to view plane; `None` for parallel (orthographic) rays.
     distance: Option<Real>,
+    /// The thin lens `(radius, focus distance)`; `None`: a pinhole.
+    lens: Option<(Real, Real)>,
 }
 
 fn finite(v: Vec3, what: &'static str) -> Result<Vec3, SceneError> {
@@ -101,6 +104,26 @@ impl CameraModel {
                 range: "finite and > 0 (check the image size and field of view)",
             });
         }
+        let lens = match cam.lens {
+            Some(l) if l.radius != 0.0 => {
+                if !(l.radius > 0.0 && l.radius.is_finite()) {
+                    return Err(SceneError::CameraProjection {
+                        what: "the lens radius",
+                        value: to_f64(l.radius),
+                        range: "finite and ≥ 0 (0 is a pinhole)",
+                    });
+                }
+                if !(l.focus_distance > 0.0 && l.focus_distance.is_finite()) {
+                    return Err(SceneError::CameraProjection {
+                        what: "the focus distance of a lens with a non-zero radius",
+                        value: to_f64(l.focus_distance),
+                        range: "finite and > 0 (the distance to the plane in focus)",
+                    });
+                }
+                Some((l.radius, l.focus_distance))
+            }
+            _ => None,
+        };
         Ok(Self {
             eye,
             u,
@@ -110,6 +133,7 @@ impl CameraModel {
             half_h,
             pixel_size,
             distance,
+            lens,
         })
     }
 
@@ -145,6 +169,34 @@ impl CameraModel {
     }
 }
 
+impl CameraModel {
+    /// Whether rays start on a lens (depth of field) rather than at a point.
+    #[inline]
+    pub(crate) fn has_lens(&self) -> bool {
+        self.lens.is_some()
+    }
+
+    /// [`CameraModel::ray`] through a thin lens: `lens_u` in `[0, 1)²` is
+    /// mapped to the aperture by the concentric disk map, and the ray
+    /// passes through the point where the pinhole ray meets the plane of
+    /// focus. Without a lens it is the pinhole ray. Directions are unit
+    /// length.
+    #[inline]
+    pub(crate) fn lens_ray(&self, c: u32, r: u32, jx: Real, jy: Real, lens_u: (Real, Real)) -> Ray {
+        let pinhole = self.ray(c, r, jx, jy);
+        let Some((radius, focus)) = self.lens else {
+            return pinhole;
+        };
+        // The pinhole ray meets the plane of focus (focus in front of the
+        // eye, perpendicular to the view direction −w) at t_f.
+        let cos = -pinhole.dir.dot(self.w);
+        let p_focus = pinhole.origin + pinhole.dir * (focus / cos);
+        let (lx, ly) = concentric_disk(lens_u);
+        let origin = pinhole.origin + (self.u * lx + self.v * ly) * radius;
+        Ray::new(origin, (p_focus - origin).normalize())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -158,6 +210,7 @@ mod tests {
                 distance: 3600.0,
                 pixel_size: 1.0,
             },
+            lens: None,
         };
         CameraModel::new(&cam, 400, 400).unwrap()
     }
@@ -193,6 +246,7 @@ mod tests {
             look_at: -Vec3::Z,
             up: Vec3::Y,
             projection: Projection::Perspective { vfov_deg: 90.0 },
+            lens: None,
         };
         let m = CameraModel::new(&cam, 100, 50).unwrap();
         // The top edge of the image is 45° up.
@@ -209,6 +263,7 @@ mod tests {
             look_at: Vec3::ZERO,
             up: Vec3::Y,
             projection: Projection::Orthographic { height: 2.0 },
+            lens: None,
         };
         let m = CameraModel::new(&cam, 4, 4).unwrap();
         let a = m.ray(0, 0, 0.5, 0.5);
@@ -219,12 +274,63 @@ mod tests {
     }
 
     #[test]
+    fn thin_lens_rays_meet_on_the_plane_of_focus() {
+        let mut cam = Camera {
+            eye: Vec3::new(0.0, 1.0, 5.0),
+            look_at: Vec3::ZERO,
+            up: Vec3::Y,
+            projection: Projection::Perspective { vfov_deg: 40.0 },
+            lens: Some(crate::ThinLens {
+                radius: 0.25,
+                focus_distance: 4.0,
+            }),
+        };
+        let m = CameraModel::new(&cam, 16, 12).unwrap();
+        assert!(m.has_lens());
+        let pin = m.ray(3, 9, 0.25, 0.75);
+        // The pinhole ray's point on the plane 4 units in front of the eye.
+        let view = (cam.look_at - cam.eye).normalize();
+        let focus = pin.origin + pin.dir * (4.0 / pin.dir.dot(view));
+        let mut spread: Real = 0.0;
+        for u in [(0.1, 0.2), (0.9, 0.5), (0.5, 0.99), (0.3, 0.7)] {
+            let r = m.lens_ray(3, 9, 0.25, 0.75, u);
+            assert!((r.dir.length() - 1.0).abs() < 1e-5);
+            // Starts on the aperture, in the lens plane.
+            let off = r.origin - cam.eye;
+            assert!(off.length() <= 0.25 + 1e-5 && off.dot(view).abs() < 1e-5);
+            spread = spread.max(off.length());
+            // Passes through the focus point.
+            let t = (focus - r.origin).dot(r.dir);
+            assert!((r.origin + r.dir * t - focus).length() < 1e-4);
+        }
+        assert!(spread > 0.1);
+        // Radius 0 is the pinhole, whatever the focus distance.
+        cam.lens = Some(crate::ThinLens {
+            radius: 0.0,
+            focus_distance: 0.0,
+        });
+        let m = CameraModel::new(&cam, 16, 12).unwrap();
+        assert!(!m.has_lens());
+        assert_eq!(m.lens_ray(3, 9, 0.25, 0.75, (0.1, 0.2)), pin);
+        // An aperture without a focus distance is an error.
+        cam.lens = Some(crate::ThinLens {
+            radius: 0.1,
+            focus_distance: 0.0,
+        });
+        assert!(matches!(
+            CameraModel::new(&cam, 16, 12),
+            Err(SceneError::CameraProjection { what, .. }) if what.contains("focus distance")
+        ));
+    }
+
+    #[test]
     fn degenerate_cameras_are_errors() {
         let mut cam = Camera {
             eye: Vec3::ONE,
             look_at: Vec3::ONE,
             up: Vec3::Y,
             projection: Projection::Perspective { vfov_deg: 60.0 },
+            lens: None,
         };
         assert_eq!(
             CameraModel::new(&cam, 4, 4),

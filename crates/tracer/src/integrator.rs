@@ -260,6 +260,9 @@ pub(crate) struct Shading {
     pub(crate) albedo: Option<Rgb>,
     /// Radiance emitted by an emission map (zero without one).
     pub(crate) emission: Rgb,
+    /// Metallic and roughness from a metallic-roughness map (they replace
+    /// the factors of a [`Material::MetallicRoughness`]).
+    pub(crate) metal_rough: Option<(f32, f32)>,
 }
 
 impl Shading {
@@ -466,6 +469,7 @@ where
                         .vertex_color(i, h.u, h.v)
                         .or_else(|| self.data.prim_albedo.get(i).copied()),
                     emission: Rgb::ZERO,
+                    metal_rough: None,
                 };
                 self.textured(ray, sh, || self.uv_at(i, h.u, h.v))
             }
@@ -478,6 +482,7 @@ where
                     ns: sp.n,
                     albedo: None,
                     emission: Rgb::ZERO,
+                    metal_rough: None,
                 };
                 self.textured(ray, sh, || None)
             }
@@ -491,6 +496,7 @@ where
                     ns: sp.n,
                     albedo: None,
                     emission: Rgb::ZERO,
+                    metal_rough: None,
                 }
             }
         }
@@ -525,6 +531,9 @@ where
             uv.map(|(_, f)| f),
         );
         sh.albedo = t.albedo.or(sh.albedo);
+        if maps.metallic_roughness.is_some() {
+            sh.metal_rough = Some(maps.metallic_roughness(&self.data.tex.list, &q));
+        }
         sh.emission = t.emission;
         sh.ns = t.ns;
         sh

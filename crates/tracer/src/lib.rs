@@ -23,6 +23,7 @@
 //!         look_at: Vec3::ZERO,
 //!         up: Vec3::Y,
 //!         projection: Projection::Perspective { vfov_deg: 40.0 },
+//!         lens: None,
 //!     },
 //!     settings: Settings { width: 32, height: 24, ..Settings::default() },
 //!     materials: vec![Material::Matte { color: Rgb::new(0.8, 0.3, 0.2), ka: 0.1, kd: 0.9 }],
@@ -70,6 +71,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod aov;
+mod bsdf;
 mod camera;
 mod emitters;
 mod error;
@@ -107,8 +109,8 @@ pub use render::{render, AccelKind, RenderOptions, RenderStats, Renderer};
 pub use robustness::{RayOffset, TriangleTest};
 pub use sampling::{Filter, SamplerKind};
 pub use scene::{
-    Camera, EnvImage, Geometry, IntegratorChoice, Light, Material, MaterialId, Mesh, Object,
-    Projection, Rgb, Scene, Settings, SphereSet,
+    Camera, ConductorFresnel, EnvImage, Geometry, IntegratorChoice, Light, Material, MaterialId,
+    Mesh, Object, Projection, Rgb, Scene, Settings, SphereSet, ThinLens,
 };
 pub use shapes::{Cuboid, MtTriangle, Plane, Shape, Sphere, Triangle, MT_EPSILON};
 pub use texture::{MaterialMaps, Texture, TextureRef, Textures};

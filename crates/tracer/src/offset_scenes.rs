@@ -27,6 +27,7 @@ fn floor_scene(eye: Vec3, look: Vec3, floor: Vec3) -> Scene {
             look_at: look,
             up: Vec3::Y,
             projection: Projection::Perspective { vfov_deg: 60.0 },
+            lens: None,
         },
         settings: Settings {
             width: 48,

@@ -11,6 +11,8 @@
 //! face and reflects nothing. Opaque surfaces reflect on both sides. Ambient
 //! lights are not used (the background is the environment's radiance).
 
+use crate::bsdf::microfacet::Ggx;
+use crate::bsdf::Micro;
 use crate::emitters::Emitters;
 use crate::float::to_f32;
 use crate::integrator::{face_forward, Found, Integrator, Li, Shading, ThreadState, Tracer};
@@ -110,6 +112,56 @@ impl Lobes {
     }
 }
 
+/// The BSDF of an opaque or rough surface at a hit, in world space.
+#[derive(Clone, Copy, Debug)]
+enum Bsdf {
+    /// Suffern's materials: Lambert, Phong and mirror lobes.
+    Lobes(Lobes),
+    /// A microfacet BSDF in the frame of the shading normal.
+    Micro(Micro, Frame),
+}
+
+impl Bsdf {
+    /// Whether a light sample can be scattered (some non-delta lobe).
+    #[inline]
+    fn smooth(&self) -> bool {
+        match self {
+            Bsdf::Lobes(l) => l.smooth(),
+            Bsdf::Micro(m, _) => m.smooth(),
+        }
+    }
+
+    /// Whether light from below the surface (seen from `wo`) can pass.
+    #[inline]
+    fn transmits(&self) -> bool {
+        matches!(self, Bsdf::Micro(m, _) if m.transmits())
+    }
+
+    /// `f·|cos θi|` (cosine to the shading normal) and the density of
+    /// choosing `wi` by [`PathTracer::sample_bsdf`], for unit `wo`, `wi`;
+    /// `ng` is the geometric normal on `wo`'s side and `ns` the shading
+    /// normal there. A direction the shading normal puts on the other side
+    /// of the geometric surface than the geometric normal does gives 0
+    /// (no light leaks through shading normals).
+    #[inline]
+    fn eval(&self, wo: Vec3, wi: Vec3, ns: Vec3, ng: Vec3) -> (Rgb, Real) {
+        match self {
+            Bsdf::Lobes(l) => {
+                let (f, pdf) = l.eval(wo, wi, ns);
+                (f * to_f32(ns.dot(wi).max(0.0)), pdf)
+            }
+            Bsdf::Micro(m, frame) => {
+                let (lo, li) = (frame.to_local(wo), frame.to_local(wi));
+                if (lo.z * li.z > 0.0) != (ng.dot(wi) > 0.0) {
+                    return (Rgb::ZERO, 0.0);
+                }
+                let (f, pdf) = m.eval(lo, li);
+                (f * to_f32(li.z.abs()), pdf)
+            }
+        }
+    }
+}
+
 /// What the next bounce is.
 enum Bounce {
     /// A non-delta direction with the throughput factor `f·cos/pdf` and the
@@ -140,7 +192,7 @@ impl PathTracer {
         ng: Vec3,
         ns: Vec3,
         wo: Vec3,
-        lobes: &Lobes,
+        bsdf: &Bsdf,
         u1: Real,
         stream: &mut SampleStream,
         ts: &mut ThreadState<A::Scratch>,
@@ -157,16 +209,15 @@ impl PathTracer {
             // unbounded.
             let u2 = stream.next_2d();
             if let Some(es) = data.env.as_ref().and_then(|e| e.sample(u2)) {
-                if ng.dot(es.wi) > 0.0 {
-                    let (f, pdf_bsdf) = lobes.eval(wo, es.wi, ns);
+                if bsdf.transmits() || ng.dot(es.wi) > 0.0 {
+                    let (f, pdf_bsdf) = bsdf.eval(wo, es.wi, ns, ng);
                     if f != Rgb::ZERO {
                         let o = tr.data.ray_offset.origin(p, sh.sp.p_err, ng, es.wi);
                         ts.counts.light_sample += 1;
                         if !tr.occluded(&Ray::new(o, es.wi), Real::INFINITY, &mut ts.scratch) {
                             let pdf = data.env_pick * es.pdf;
                             let w = power_heuristic(pdf, pdf_bsdf);
-                            let cos = ns.dot(es.wi);
-                            l += f * es.radiance * to_f32(cos * w / pdf);
+                            l += f * es.radiance * to_f32(w / pdf);
                         }
                     }
                 }
@@ -182,16 +233,15 @@ impl PathTracer {
             };
             if let Some(mut ls) = data.emitters.sample(p, u1, u2) {
                 ls.pdf *= scale;
-                if ng.dot(ls.wi) > 0.0 {
-                    let (f, pdf_bsdf) = lobes.eval(wo, ls.wi, ns);
+                if bsdf.transmits() || ng.dot(ls.wi) > 0.0 {
+                    let (f, pdf_bsdf) = bsdf.eval(wo, ls.wi, ns, ng);
                     if f != Rgb::ZERO {
                         let o = tr.data.ray_offset.origin(p, sh.sp.p_err, ng, ls.wi);
                         ts.counts.light_sample += 1;
                         let shadow = Ray::new(o, ls.point - o);
                         if !tr.occluded(&shadow, LIGHT_T_MAX, &mut ts.scratch) {
                             let w = power_heuristic(ls.pdf, pdf_bsdf);
-                            let cos = ns.dot(ls.wi);
-                            l += f * ls.radiance * to_f32(cos * w / ls.pdf);
+                            l += f * ls.radiance * to_f32(w / ls.pdf);
                         }
                     }
                 }
@@ -245,10 +295,10 @@ impl PathTracer {
                     )
                 }
             };
-            if ng.dot(wi) <= 0.0 {
+            if !bsdf.transmits() && ng.dot(wi) <= 0.0 {
                 continue;
             }
-            let (f, _) = lobes.eval(wo, wi, ns);
+            let (f, _) = bsdf.eval(wo, wi, ns, ng);
             if f == Rgb::ZERO {
                 continue;
             }
@@ -258,7 +308,7 @@ impl PathTracer {
                     continue;
                 }
             }
-            l += f * radiance * to_f32(ns.dot(wi));
+            l += f * radiance;
         }
         l
     }
@@ -303,6 +353,55 @@ impl PathTracer {
             weight: f * to_f32(ns.dot(wi) / pdf),
             pdf,
             glossy,
+        })
+    }
+
+    /// Next-event estimation and the next direction at a microfacet
+    /// surface: adds the direct light (times `beta`) to `l`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn scatter<A>(
+        tr: &Tracer<'_, A>,
+        sh: &Shading,
+        bsdf: &Bsdf,
+        ng: Vec3,
+        wo: Vec3,
+        l: &mut Rgb,
+        beta: Rgb,
+        stream: &mut SampleStream,
+        ts: &mut ThreadState<A::Scratch>,
+    ) -> Option<Bounce>
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+    {
+        let (u_light, u_lobe) = stream.next_2d();
+        if bsdf.smooth() {
+            *l += beta * Self::direct(tr, sh, ng, sh.ns, wo, bsdf, u_light, stream, ts);
+        }
+        let Bsdf::Micro(m, frame) = bsdf else {
+            return None;
+        };
+        let s = m.sample(frame.to_local(wo), u_lobe, stream.next_2d())?;
+        let wi = frame.to_world(s.wi);
+        // The geometric surface decides the side (no leaks through
+        // shading normals).
+        if (ng.dot(wi) < 0.0) != s.transmitted {
+            return None;
+        }
+        Some(if s.delta {
+            Bounce::Delta {
+                wi,
+                weight: s.f,
+                refracted: s.transmitted,
+            }
+        } else {
+            Bounce::Smooth {
+                wi,
+                weight: s.f * to_f32(s.wi.z.abs() / s.pdf),
+                pdf: s.pdf,
+                glossy: true,
+            }
         })
     }
 
@@ -428,6 +527,62 @@ impl Integrator for PathTracer {
                     let u = stream.next_2d().0;
                     Self::sample_glass(&sh, wo, ior, u)
                 }
+                Material::RoughDielectric {
+                    ior,
+                    tint,
+                    roughness,
+                } => {
+                    if tint != Rgb::ONE && sh.ns.dot(wo) <= 0.0 {
+                        beta *= tint.powf(to_f32(sh.t));
+                    }
+                    if depth >= data.path_depth {
+                        break;
+                    }
+                    let micro = Micro::Glass {
+                        ggx: Ggx::from_roughness(roughness),
+                        eta: Real::from(ior),
+                    };
+                    // The frame keeps the outward normal (inside is below).
+                    let (ng, _) = face_forward(sh.sp.n, sh.ns, wo);
+                    let bsdf = Bsdf::Micro(micro, Frame::new(sh.ns));
+                    match Self::scatter(tr, &sh, &bsdf, ng, wo, &mut l, beta, stream, ts) {
+                        Some(b) => (b, ng),
+                        None => break,
+                    }
+                }
+                Material::Conductor { fresnel, roughness } => {
+                    if depth >= data.path_depth {
+                        break;
+                    }
+                    let micro = Micro::Conductor {
+                        ggx: Ggx::from_roughness(roughness),
+                        fresnel,
+                    };
+                    let (ng, ns) = face_forward(sh.sp.n, sh.ns, wo);
+                    let bsdf = Bsdf::Micro(micro, Frame::new(ns));
+                    match Self::scatter(tr, &sh, &bsdf, ng, wo, &mut l, beta, stream, ts) {
+                        Some(b) => (b, ng),
+                        None => break,
+                    }
+                }
+                Material::MetallicRoughness {
+                    base,
+                    metallic,
+                    roughness,
+                } => {
+                    if depth >= data.path_depth {
+                        break;
+                    }
+                    let (metallic, roughness) = sh.metal_rough.unwrap_or((metallic, roughness));
+                    let (ng, ns) = face_forward(sh.sp.n, sh.ns, wo);
+                    let base = sh.albedo.unwrap_or(base);
+                    let micro = Micro::gltf(base, metallic, roughness, ns.dot(wo));
+                    let bsdf = Bsdf::Micro(micro, Frame::new(ns));
+                    match Self::scatter(tr, &sh, &bsdf, ng, wo, &mut l, beta, stream, ts) {
+                        Some(b) => (b, ng),
+                        None => break,
+                    }
+                }
                 ref m => {
                     let (diffuse, glossy, exp, mirror) = match *m {
                         Material::Matte { color, kd, .. } => {
@@ -460,7 +615,11 @@ impl Integrator for PathTracer {
                             exp,
                             reflect * kr,
                         ),
-                        Material::Dielectric { .. } | Material::Emissive { .. } => {
+                        Material::Dielectric { .. }
+                        | Material::RoughDielectric { .. }
+                        | Material::Conductor { .. }
+                        | Material::MetallicRoughness { .. }
+                        | Material::Emissive { .. } => {
                             unreachable!("matched above")
                         }
                     };
@@ -472,7 +631,8 @@ impl Integrator for PathTracer {
                     // One pair chooses the light and the lobe.
                     let (u_light, u_lobe) = stream.next_2d();
                     if lobes.smooth() {
-                        l += beta * Self::direct(tr, &sh, ng, ns, wo, &lobes, u_light, stream, ts);
+                        let bsdf = Bsdf::Lobes(lobes);
+                        l += beta * Self::direct(tr, &sh, ng, ns, wo, &bsdf, u_light, stream, ts);
                     }
                     match Self::sample_opaque(&lobes, wo, ns, ng, u_lobe, stream) {
                         Some(b) => (b, ng),

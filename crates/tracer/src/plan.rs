@@ -20,7 +20,8 @@ pub struct RayCounts {
     pub refraction: u64,
     /// Shadow rays towards points sampled on area lights (path tracing).
     pub light_sample: u64,
-    /// Rays sampled from a glossy (Phong) lobe (path tracing).
+    /// Rays sampled from a glossy lobe: Phong or microfacet (path tracing),
+    /// rough microfacet surfaces (Whitted).
     pub glossy: u64,
     /// Diffuse bounce rays: indirect light (path tracing).
     pub indirect: u64,
@@ -151,8 +152,10 @@ pub struct EffectPlan {
     /// path tracing, soft shadows (one light sample per shading point) in
     /// the Whitted tracer.
     pub light_sampling: bool,
-    /// Whether some material in use has a glossy (Phong) lobe that the path
-    /// tracer samples.
+    /// Whether some material in use has a glossy lobe whose directions are
+    /// sampled: a Phong lobe or a rough microfacet lobe in the path tracer;
+    /// a rough conductor, rough dielectric or glTF metallic-roughness
+    /// material in the Whitted tracer (one glossy ray per hit).
     pub glossy: bool,
     /// Whether diffuse surfaces scatter indirect light (path tracing).
     pub indirect: bool,
@@ -162,6 +165,9 @@ pub struct EffectPlan {
     /// Whether the environment's image is importance-sampled for light
     /// (path tracing with an image environment).
     pub env_sampling: bool,
+    /// Whether camera rays start on a thin lens (a lens radius > 0): depth
+    /// of field. Off: pinhole rays, and no lens sample is drawn.
+    pub depth_of_field: bool,
 }
 
 impl EffectPlan {
@@ -191,20 +197,46 @@ impl EffectPlan {
             Material::Phong { kd, ks, .. } | Material::Reflective { kd, ks, .. } => {
                 kd != 0.0 || ks != 0.0
             }
+            Material::Conductor { .. }
+            | Material::RoughDielectric { .. }
+            | Material::MetallicRoughness { .. } => true,
             Material::Dielectric { .. } | Material::Emissive { .. } => false,
         });
         let ambient_material = in_use().any(|m| match *m {
             Material::Matte { ka, color, .. }
             | Material::Phong { ka, color, .. }
             | Material::Reflective { ka, color, .. } => ka != 0.0 && color != crate::Rgb::ZERO,
-            Material::Dielectric { .. } | Material::Emissive { .. } => false,
+            // glTF's material takes the ambient light on its diffuse part.
+            Material::MetallicRoughness { base, metallic, .. } => {
+                metallic < 1.0 && base != crate::Rgb::ZERO
+            }
+            Material::Dielectric { .. }
+            | Material::RoughDielectric { .. }
+            | Material::Conductor { .. }
+            | Material::Emissive { .. } => false,
         });
         let reflects = in_use().any(|m| match *m {
             Material::Reflective { kr, reflect, .. } => kr != 0.0 && reflect != crate::Rgb::ZERO,
-            Material::Dielectric { .. } => true,
+            Material::Dielectric { .. }
+            | Material::RoughDielectric { .. }
+            | Material::Conductor { .. }
+            | Material::MetallicRoughness { .. } => true,
             _ => false,
         });
-        let transmits = in_use().any(|m| matches!(m, Material::Dielectric { .. }));
+        let transmits = in_use().any(|m| {
+            matches!(
+                m,
+                Material::Dielectric { .. } | Material::RoughDielectric { .. }
+            )
+        });
+        // Microfacet lobes with a width (sampled directions, not mirrors).
+        let microfacet = in_use().any(|m| match *m {
+            Material::Conductor { roughness, .. } => {
+                !crate::bsdf::microfacet::Ggx::from_roughness(roughness).smooth()
+            }
+            Material::RoughDielectric { .. } | Material::MetallicRoughness { .. } => true,
+            _ => false,
+        });
         // Rectangle and disk lights of non-zero radiance: surfaces that emit.
         let area_surfaces = scene
             .lights
@@ -288,11 +320,14 @@ impl EffectPlan {
                 Material::Phong { ks, specular, .. } => ks != 0.0 && specular != crate::Rgb::ZERO,
                 Material::Reflective { ks, .. } => ks != 0.0,
                 _ => false,
-            });
+            }) || microfacet;
             let indirect = in_use().any(|m| match *m {
                 Material::Matte { color, kd, .. }
                 | Material::Phong { color, kd, .. }
                 | Material::Reflective { color, kd, .. } => kd != 0.0 && color != crate::Rgb::ZERO,
+                Material::MetallicRoughness { base, metallic, .. } => {
+                    metallic < 1.0 && base != crate::Rgb::ZERO
+                }
                 _ => false,
             });
             let mut plan = Self::path(
@@ -332,10 +367,12 @@ impl EffectPlan {
             area_lights: 0,
             // Soft shadows: area lights sampled at every lit shading point.
             light_sampling: lit && emitting_geometry,
-            glossy: false,
+            // One sampled ray per hit on a rough microfacet surface.
+            glossy: microfacet && reflection,
             indirect: false,
             environment,
             env_sampling: false,
+            depth_of_field: scene.camera.lens.is_some_and(|l| l.radius > 0.0),
         }
     }
 
@@ -367,6 +404,7 @@ impl EffectPlan {
             indirect: indirect && depth > 0,
             environment: false,
             env_sampling: false,
+            depth_of_field: scene.camera.lens.is_some_and(|l| l.radius > 0.0),
         }
     }
 }
@@ -438,8 +476,14 @@ impl fmt::Display for EffectPlan {
             }
             writeln!(f, "glossy      {}", on_off(self.glossy))?;
         }
+        if self.integrator != IntegratorKind::Path && self.glossy {
+            writeln!(f, "glossy      on (one sampled ray per rough hit)")?;
+        }
         if self.integrator != IntegratorKind::Path && self.light_sampling {
             writeln!(f, "area lights {} sampled (soft shadows)", self.area_lights)?;
+        }
+        if self.depth_of_field {
+            writeln!(f, "lens        thin lens (depth of field)")?;
         }
         writeln!(f, "reflection  {}", on_off(self.reflection))?;
         write!(f, "refraction  {}", on_off(self.refraction))

@@ -100,7 +100,11 @@ pub(crate) fn albedo(m: &Material) -> Rgb {
         Material::Matte { color, .. }
         | Material::Phong { color, .. }
         | Material::Reflective { color, .. } => color,
-        Material::Dielectric { .. } | Material::Emissive { .. } => Rgb::ONE,
+        Material::MetallicRoughness { base, .. } => base,
+        Material::Dielectric { .. }
+        | Material::RoughDielectric { .. }
+        | Material::Conductor { .. }
+        | Material::Emissive { .. } => Rgb::ONE,
     }
 }
 

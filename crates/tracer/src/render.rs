@@ -604,16 +604,22 @@ impl Job<'_> {
         A: Accelerator,
         A::Prim: Surface,
     {
-        // Refraction always comes with (Fresnel) reflection.
-        match (plan.reflection, plan.refraction) {
-            (false, false) => {
-                self.pick_jitter::<A, Whitted<SHADOWS, false, false, AREA>>(accel, data, plan)
+        // Refraction always comes with (Fresnel) reflection, and glossy
+        // rays only come with reflection.
+        match (plan.reflection, plan.refraction, plan.glossy) {
+            (false, false, _) => self
+                .pick_jitter::<A, Whitted<SHADOWS, false, false, AREA, false>>(accel, data, plan),
+            (true, false, false) => {
+                self.pick_jitter::<A, Whitted<SHADOWS, true, false, AREA, false>>(accel, data, plan)
             }
-            (true, false) => {
-                self.pick_jitter::<A, Whitted<SHADOWS, true, false, AREA>>(accel, data, plan)
+            (true, false, true) => {
+                self.pick_jitter::<A, Whitted<SHADOWS, true, false, AREA, true>>(accel, data, plan)
             }
-            (_, true) => {
-                self.pick_jitter::<A, Whitted<SHADOWS, true, true, AREA>>(accel, data, plan)
+            (_, true, false) => {
+                self.pick_jitter::<A, Whitted<SHADOWS, true, true, AREA, false>>(accel, data, plan)
+            }
+            (_, true, true) => {
+                self.pick_jitter::<A, Whitted<SHADOWS, true, true, AREA, true>>(accel, data, plan)
             }
         }
     }
@@ -753,10 +759,14 @@ impl Job<'_> {
         ts.counts = RayCounts::default();
         let mut pixels = Vec::with_capacity((tile.x1 - tile.x0) as usize * (tile.k1 - tile.k0));
         let mut hits = 0;
+        // A thin lens draws a point of the aperture from each sample's
+        // stream; pinhole cameras (the plan's `depth_of_field` off) keep
+        // the batched loop and draw nothing.
+        let lens = self.camera.has_lens();
         for &y in &self.rows[tile.k0..tile.k1] {
             debug_assert!(y < self.height);
             let r = self.height - 1 - y;
-            if JITTER || I::SAMPLED {
+            if JITTER || I::SAMPLED || lens {
                 for x in tile.x0..tile.x1 {
                     let index = u64::from(y) * u64::from(self.width) + u64::from(x);
                     let mut sum = Rgb::ZERO;
@@ -771,7 +781,11 @@ impl Job<'_> {
                         } else {
                             (0.5, 0.5, 1.0)
                         };
-                        let ray = self.camera.ray(x, r, jx, jy);
+                        let ray = if lens {
+                            self.camera.lens_ray(x, r, jx, jy, stream.next_2d())
+                        } else {
+                            self.camera.ray(x, r, jx, jy)
+                        };
                         ts.counts.camera += 1;
                         let li = I::li(tr, &ray, 0, &mut stream, ts);
                         sum += li.color * w;

@@ -101,6 +101,22 @@ pub struct Camera {
     pub up: Vec3,
     /// How image positions map to rays.
     pub projection: Projection,
+    /// A thin lens for depth of field; `None` (or a radius of 0) is a
+    /// pinhole, whose rays all start at the eye.
+    pub lens: Option<ThinLens>,
+}
+
+/// A thin lens (pbrt's `ProjectiveCamera`): rays start on a disk of radius
+/// `radius` about the eye, in the image plane, and pass through the point
+/// where the pinhole ray meets the plane of focus, `focus_distance` in
+/// front of the eye along the view direction. Only that plane is sharp.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ThinLens {
+    /// The aperture's radius in world units (≥ 0; 0 is a pinhole).
+    pub radius: Real,
+    /// Distance from the eye to the plane in focus, along the view
+    /// direction (> 0 when `radius` > 0).
+    pub focus_distance: Real,
 }
 
 /// Camera projections.
@@ -273,12 +289,67 @@ pub enum Material {
         /// Transmittance per unit distance inside.
         tint: Rgb,
     },
+    /// A metal: GGX (Trowbridge–Reitz) microfacet reflection with Smith
+    /// masking, weighted by the conductor's Fresnel term (pbrt-v4's
+    /// `ConductorBxDF`). Roughness 0 is a perfect mirror.
+    Conductor {
+        /// The Fresnel term: an artist's colour at normal incidence, or a
+        /// complex index of refraction.
+        fresnel: ConductorFresnel,
+        /// Perceptual roughness in `[0, 1]`; the GGX width is `α = roughness²`.
+        roughness: f32,
+    },
+    /// A rough dielectric (frosted glass): GGX microfacet reflection and
+    /// transmission chosen by the dielectric Fresnel term (pbrt-v4's
+    /// `DielectricBxDF`), Beer's law inside like [`Material::Dielectric`].
+    /// Scene loaders turn roughness 0 into a smooth [`Material::Dielectric`].
+    RoughDielectric {
+        /// Index of refraction inside (outside is 1).
+        ior: f32,
+        /// Transmittance per unit distance inside.
+        tint: Rgb,
+        /// Perceptual roughness in `(0, 1]`; `α = roughness²`.
+        roughness: f32,
+    },
+    /// glTF 2.0's metallic-roughness material (the specification's
+    /// appendix B): a Lambertian base weighted by `1 − F` plus a GGX lobe
+    /// with Schlick's `F`, `F₀ = lerp(0.04, base, metallic)`, diffuse colour
+    /// `base·(1 − metallic)`. A metallic-roughness texture (blue = metallic,
+    /// green = roughness) multiplies both factors.
+    MetallicRoughness {
+        /// Base colour (a base-colour texture multiplies it).
+        base: Rgb,
+        /// Metalness in `[0, 1]`.
+        metallic: f32,
+        /// Perceptual roughness in `[0, 1]`; `α = roughness²`.
+        roughness: f32,
+    },
     /// Emits `color·strength` and reflects nothing.
     Emissive {
         /// Emitted colour.
         color: Rgb,
         /// Emitted radiance scale.
         strength: f32,
+    },
+}
+
+/// The Fresnel term of a [`Material::Conductor`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ConductorFresnel {
+    /// Schlick's approximation from the reflectance at normal incidence
+    /// (the metal's colour, as artists give it).
+    Schlick {
+        /// Reflectance at normal incidence, per channel in `[0, 1]`.
+        f0: Rgb,
+    },
+    /// The exact Fresnel equations of a complex index of refraction
+    /// `eta + i·k` per channel (measured metal data, as pbrt and Mitsuba
+    /// take it).
+    Complex {
+        /// Real part of the index (> 0).
+        eta: Rgb,
+        /// Absorption coefficient (≥ 0).
+        k: Rgb,
     },
 }
 

@@ -290,6 +290,7 @@ pub fn camera() -> Camera {
             distance: 3600.0,
             pixel_size: 1.0,
         },
+        lens: None,
     }
 }
 

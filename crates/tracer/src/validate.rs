@@ -72,6 +72,53 @@ fn check_material(i: usize, m: &Material) -> Result<(), SceneError> {
                 return bad("the tint must be finite and ≥ 0 in every channel (white = clear)");
             }
         }
+        Material::Conductor { fresnel, roughness } => {
+            if !(0.0..=1.0).contains(&roughness) {
+                return bad("the roughness must be in [0, 1]");
+            }
+            match fresnel {
+                crate::ConductorFresnel::Schlick { f0 } => {
+                    if !color_ok(f0) || f0.max_element() > 1.0 {
+                        return bad("the reflectance f0 must be in [0, 1] in every channel");
+                    }
+                }
+                crate::ConductorFresnel::Complex { eta, k } => {
+                    if !(eta.is_finite() && eta.cmpgt(Rgb::ZERO).all() && color_ok(k)) {
+                        return bad(
+                            "eta must be finite and > 0, k finite and ≥ 0, in every channel",
+                        );
+                    }
+                }
+            }
+        }
+        Material::RoughDielectric {
+            ior,
+            tint,
+            roughness,
+        } => {
+            if !(ior.is_finite() && ior > 0.0) {
+                return bad("the index of refraction must be finite and > 0 (glass is about 1.5)");
+            }
+            if !color_ok(tint) {
+                return bad("the tint must be finite and ≥ 0 in every channel (white = clear)");
+            }
+            if !(0.0..=1.0).contains(&roughness) {
+                return bad("the roughness must be in [0, 1]");
+            }
+        }
+        Material::MetallicRoughness {
+            base,
+            metallic,
+            roughness,
+        } => {
+            if !color_ok(base) || base.max_element() > 1.0 {
+                return bad("the base colour must be in [0, 1] in every channel");
+            }
+            // `contains` is false for NaN.
+            if !((0.0..=1.0).contains(&metallic) && (0.0..=1.0).contains(&roughness)) {
+                return bad("metallic and roughness must be in [0, 1]");
+            }
+        }
         Material::Emissive { color, strength } => {
             if !color_ok(color) || !coef_ok(strength) {
                 return bad("the colour and strength must be finite and ≥ 0");

@@ -1,10 +1,13 @@
 //! The Whitted integrator (Suffern's ray casting when it neither reflects
 //! nor refracts), specialised at compile time on the effects of the plan.
 
+use crate::bsdf::microfacet::Ggx;
+use crate::bsdf::Micro;
 use crate::float::to_f32;
 use crate::optics::{fresnel_dielectric, reflect, refract};
+use crate::sampling::maps::Frame;
 use crate::sampling::SampleStream;
-use crate::scene::{Material, Rgb};
+use crate::scene::{ConductorFresnel, Material, Rgb};
 use crate::shapes::{Surface, SurfacePoint};
 use gridrt_bbox::{gamma, Ray, Real, Vec3};
 use gridrt_grid::Accelerator;
@@ -16,22 +19,29 @@ use crate::integrator::{DirectLight, Integrator, Li, Shading, ThreadState, Trace
 /// `SHADOWS = false` removes shadow rays from the code, `REFLECT = false`
 /// mirror reflection, `REFRACT = false` dielectrics, `AREA = false` the
 /// sampling of area lights (soft shadows): the plan instantiates only the
-/// combination the scene needs.
+/// combination the scene needs. `GLOSSY = false` removes the sampled
+/// reflection (and transmission) rays of rough microfacet surfaces.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct Whitted<
     const SHADOWS: bool,
     const REFLECT: bool,
     const REFRACT: bool,
     const AREA: bool,
+    const GLOSSY: bool,
 >;
 
-impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool, const AREA: bool> Integrator
-    for Whitted<SHADOWS, REFLECT, REFRACT, AREA>
+impl<
+        const SHADOWS: bool,
+        const REFLECT: bool,
+        const REFRACT: bool,
+        const AREA: bool,
+        const GLOSSY: bool,
+    > Integrator for Whitted<SHADOWS, REFLECT, REFRACT, AREA, GLOSSY>
 {
-    // Light sampling draws from each pixel sample's stream, which the
-    // render loop only hands out per sample.
-    const BATCH: bool = !AREA;
-    const SAMPLED: bool = AREA;
+    // Light and lobe sampling draw from each pixel sample's stream, which
+    // the render loop only hands out per sample.
+    const BATCH: bool = !(AREA || GLOSSY);
+    const SAMPLED: bool = AREA || GLOSSY;
 
     #[inline]
     fn li<A>(
@@ -83,8 +93,10 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool, const AREA: 
                     ns,
                     wo,
                     color * ka,
-                    color * (kd * FRAC_1_PI),
-                    None,
+                    Brdf::Suffern {
+                        diffuse: color * (kd * FRAC_1_PI),
+                        spec: None,
+                    },
                     stream,
                     ts,
                 )
@@ -107,8 +119,10 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool, const AREA: 
                     ns,
                     wo,
                     color * ka,
-                    color * (kd * FRAC_1_PI),
-                    spec,
+                    Brdf::Suffern {
+                        diffuse: color * (kd * FRAC_1_PI),
+                        spec,
+                    },
                     stream,
                     ts,
                 )
@@ -133,8 +147,10 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool, const AREA: 
                     ns,
                     wo,
                     color * ka,
-                    color * (kd * FRAC_1_PI),
-                    spec,
+                    Brdf::Suffern {
+                        diffuse: color * (kd * FRAC_1_PI),
+                        spec,
+                    },
                     stream,
                     ts,
                 );
@@ -156,6 +172,60 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool, const AREA: 
                     Rgb::ZERO
                 }
             }
+            Material::Conductor { fresnel, roughness } => {
+                let (ng, ns) = face_forward(sh.sp.n, sh.ns, wo);
+                let micro = Micro::Conductor {
+                    ggx: Ggx::from_roughness(roughness),
+                    fresnel,
+                };
+                let frame = Frame::new(ns);
+                let brdf = Brdf::Micro(micro, frame);
+                Self::direct(tr, &sh.sp, ng, ns, wo, Rgb::ZERO, brdf, stream, ts)
+                    + Self::micro_ray(tr, sh, &micro, frame, ng, wo, Rgb::ONE, depth, stream, ts)
+            }
+            Material::MetallicRoughness {
+                base,
+                metallic,
+                roughness,
+            } => {
+                let (metallic, roughness) = sh.metal_rough.unwrap_or((metallic, roughness));
+                let base = sh.albedo.unwrap_or(base);
+                let (ng, ns) = face_forward(sh.sp.n, sh.ns, wo);
+                let frame = Frame::new(ns);
+                let micro = Micro::gltf(base, metallic, roughness, ns.dot(wo));
+                let ambient = base * (1.0 - metallic);
+                let brdf = Brdf::Micro(micro, frame);
+                // Secondary rays follow the specular lobe only (Whitted
+                // gathers no diffuse indirect light): a conductor with
+                // Schlick's F0.
+                let spec = Micro::Conductor {
+                    ggx: Ggx::from_roughness(roughness),
+                    fresnel: ConductorFresnel::Schlick {
+                        f0: Rgb::splat(0.04).lerp(base, metallic),
+                    },
+                };
+                Self::direct(tr, &sh.sp, ng, ns, wo, ambient, brdf, stream, ts)
+                    + Self::micro_ray(tr, sh, &spec, frame, ng, wo, Rgb::ONE, depth, stream, ts)
+            }
+            Material::RoughDielectric {
+                ior,
+                tint,
+                roughness,
+            } => {
+                let (ng, ns) = face_forward(sh.sp.n, sh.ns, wo);
+                let glass = Micro::Glass {
+                    ggx: Ggx::from_roughness(roughness),
+                    eta: ior as Real,
+                };
+                // The outward frame: inside is below.
+                let frame = Frame::new(sh.ns);
+                let brdf = Brdf::Micro(glass, frame);
+                let mut l = Self::direct(tr, &sh.sp, ng, ns, wo, Rgb::ZERO, brdf, stream, ts);
+                if REFRACT {
+                    l += Self::micro_ray(tr, sh, &glass, frame, ng, wo, tint, depth, stream, ts);
+                }
+                l
+            }
             // Emission is one-sided: the front face (where the geometric
             // normal points) glows, the back is black.
             Material::Emissive { color, strength } => {
@@ -170,6 +240,48 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool, const AREA: 
             color: color + sh.emission,
             t,
             hit: true,
+        }
+    }
+}
+
+/// The BRDF that direct lighting evaluates at a hit.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Brdf {
+    /// Suffern's: Lambert `diffuse` plus, with `spec = (ks·cs, exp)`, the
+    /// glossy `ks·cs·(r·wo)^exp`.
+    Suffern {
+        diffuse: Rgb,
+        spec: Option<(Rgb, f32)>,
+    },
+    /// A microfacet BSDF in the frame of the shading normal (its
+    /// reflection; light is not gathered through transmission).
+    Micro(Micro, Frame),
+}
+
+impl Brdf {
+    /// Whether it reflects nothing.
+    #[inline]
+    fn is_black(&self) -> bool {
+        matches!(*self, Brdf::Suffern { diffuse, spec: None } if diffuse == Rgb::ZERO)
+    }
+
+    /// `f(ωo, ωi)` for unit vectors and the shading normal `ns` (on
+    /// `wo`'s side).
+    #[inline]
+    fn f(&self, wo: Vec3, wi: Vec3, ns: Vec3) -> Rgb {
+        match *self {
+            Brdf::Suffern { diffuse, spec } => {
+                let mut f = diffuse;
+                if let Some((ks, exp)) = spec {
+                    let r = reflect(wi, ns);
+                    let rdotwo = r.dot(wo);
+                    if rdotwo > 0.0 {
+                        f += ks * to_f32(rdotwo).powf(exp);
+                    }
+                }
+                f
+            }
+            Brdf::Micro(m, frame) => m.eval(frame.to_local(wo), frame.to_local(wi)).0,
         }
     }
 }
@@ -237,9 +349,77 @@ pub(crate) fn point_shadow_t_max() -> Real {
     1.0 - gamma(16)
 }
 
-impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool, const AREA: bool>
-    Whitted<SHADOWS, REFLECT, REFRACT, AREA>
+impl<
+        const SHADOWS: bool,
+        const REFLECT: bool,
+        const REFRACT: bool,
+        const AREA: bool,
+        const GLOSSY: bool,
+    > Whitted<SHADOWS, REFLECT, REFRACT, AREA, GLOSSY>
 {
+    /// The secondary ray of a microfacet surface: the mirror of a smooth
+    /// conductor (with `REFLECT`), or one direction sampled from a rough
+    /// lobe (with `GLOSSY`), weighted by `f·|cos|/pdf`. `tint` is the
+    /// absorption inside a dielectric (Beer's law over the traced segment).
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn micro_ray<A>(
+        tr: &Tracer<'_, A>,
+        sh: &Shading,
+        micro: &Micro,
+        frame: Frame,
+        ng: Vec3,
+        wo: Vec3,
+        tint: Rgb,
+        depth: u32,
+        stream: &mut SampleStream,
+        ts: &mut ThreadState<A::Scratch>,
+    ) -> Rgb
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+    {
+        if !REFLECT || depth >= tr.data.max_depth {
+            return Rgb::ZERO;
+        }
+        // `smooth()`: some lobe has a width; else the BSDF is a delta.
+        let delta = !micro.smooth() && !micro.transmits();
+        let (uc, u) = if delta {
+            // A delta mirror needs no random numbers.
+            (0.0, (0.5, 0.5))
+        } else if GLOSSY {
+            (stream.next_2d().0, stream.next_2d())
+        } else {
+            return Rgb::ZERO;
+        };
+        let Some(s) = micro.sample(frame.to_local(wo), uc, u) else {
+            return Rgb::ZERO;
+        };
+        let wi = frame.to_world(s.wi);
+        if (ng.dot(wi) < 0.0) != s.transmitted {
+            return Rgb::ZERO;
+        }
+        let weight = if s.delta {
+            if s.transmitted {
+                ts.counts.refraction += 1;
+            } else {
+                ts.counts.reflection += 1;
+            }
+            s.f
+        } else {
+            ts.counts.glossy += 1;
+            s.f * to_f32(s.wi.z.abs() / s.pdf)
+        };
+        let origin = tr.data.ray_offset.origin(sh.sp.p, sh.sp.p_err, ng, wi);
+        let li = Self::li(tr, &Ray::new(origin, wi), depth + 1, stream, ts);
+        let inside = sh.sp.n.dot(wi) < 0.0;
+        if inside && tint != Rgb::ONE {
+            weight * li.color * tint.powf(to_f32(li.t))
+        } else {
+            weight * li.color
+        }
+    }
+
     /// Ambient plus direct lighting with Suffern's BRDFs: Lambert `kd·cd/π`
     /// and, with `spec = (ks·cs, exp)`, the glossy `ks·cs·(r·wo)^exp`; each
     /// light contributes `f · L · cos θ`.
@@ -252,8 +432,7 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool, const AREA: 
         ns: Vec3,
         wo: Vec3,
         ambient: Rgb,
-        diffuse: Rgb,
-        spec: Option<(Rgb, f32)>,
+        brdf: Brdf,
         stream: &mut SampleStream,
         ts: &mut ThreadState<A::Scratch>,
     ) -> Rgb
@@ -262,20 +441,10 @@ impl<const SHADOWS: bool, const REFLECT: bool, const REFRACT: bool, const AREA: 
         A::Prim: Surface,
     {
         let mut l = ambient * tr.data.ambient;
-        if diffuse == Rgb::ZERO && spec.is_none() {
+        if brdf.is_black() {
             return l;
         }
-        let brdf = |wi: Vec3| {
-            let mut f = diffuse;
-            if let Some((ks, exp)) = spec {
-                let r = reflect(wi, ns);
-                let rdotwo = r.dot(wo);
-                if rdotwo > 0.0 {
-                    f += ks * to_f32(rdotwo).powf(exp);
-                }
-            }
-            f
-        };
+        let brdf = |wi: Vec3| brdf.f(wo, wi, ns);
         if AREA {
             // One sample of the area lights, chosen by power (Suffern ch. 18
             // samples each light; choosing one keeps the cost per shading

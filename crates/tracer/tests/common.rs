@@ -54,6 +54,7 @@ pub fn empty_scene(w: u32, h: u32, eye: Vec3) -> Scene {
             look_at: Vec3::ZERO,
             up: Vec3::Y,
             projection: Projection::Perspective { vfov_deg: 40.0 },
+            lens: None,
         },
         settings: Settings {
             width: w,

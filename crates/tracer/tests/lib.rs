@@ -10,6 +10,7 @@ mod determinism;
 mod dielectric;
 mod environment;
 mod errors;
+mod glossy;
 mod lambert;
 mod leaks;
 mod mirror;

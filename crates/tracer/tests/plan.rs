@@ -164,3 +164,30 @@ fn stats_serialize_to_json() {
     assert!(json["render_time"].is_f64());
     assert!(json["grid"]["dims"].is_array());
 }
+
+#[test]
+fn a_pinhole_draws_no_lens_sample_and_a_lens_blurs() {
+    let mut s = two_spheres(true);
+    s.settings.spp = 4;
+    let (pinhole, stats) = render(&s);
+    assert!(!stats.plan.depth_of_field);
+    // A lens of radius 0 is the pinhole: the same image, bit for bit.
+    s.camera.lens = Some(gridrt_tracer::ThinLens {
+        radius: 0.0,
+        focus_distance: 3.0,
+    });
+    let (same, stats) = render(&s);
+    assert!(!stats.plan.depth_of_field);
+    assert_eq!(pinhole.pixels, same.pixels);
+    // A real aperture focused far behind the spheres blurs them; the
+    // camera still casts one ray per sample.
+    s.camera.lens = Some(gridrt_tracer::ThinLens {
+        radius: 0.3,
+        focus_distance: 20.0,
+    });
+    let (blurred, stats) = render(&s);
+    assert!(stats.plan.depth_of_field);
+    assert_eq!(stats.rays.camera, u64::from(24 * 24 * 4u32));
+    assert_ne!(pinhole.pixels, blurred.pixels);
+    assert!(stats.plan.to_string().contains("thin lens"));
+}

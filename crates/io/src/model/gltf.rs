@@ -641,6 +641,7 @@ fn camera(cam: &gltf::Camera, world: &DMat4) -> Option<ModelCamera> {
             look_at: to_vec3(eye + fwd),
             up: to_vec3(up),
             projection,
+            lens: None,
         },
         aspect: aspect.filter(|a| a.is_finite() && *a > 0.0),
     })
@@ -669,10 +670,10 @@ fn assemble(idx: &[u32], mode: Mode) -> Vec<[u32; 3]> {
 /// Maps a glTF metallic-roughness material to ours:
 ///
 /// - emissive factor non-zero without an emissive texture → Emissive;
-/// - metallic ≥ 0.5 and roughness ≤ 0.3 → Reflective (the mirror reflects
-///   the base colour, kr = metallic · (1 − roughness));
-/// - roughness < 0.6 → Phong with exponent 2/α² − 2, α = roughness²;
-/// - otherwise Matte with the base colour.
+/// - otherwise [`Material::MetallicRoughness`]: the specification's BRDF
+///   (a Lambertian base and a GGX lobe with `α = roughness²`, blended by
+///   metalness), its factors multiplied by the metallic-roughness texture
+///   (blue = metallic, green = roughness) when there is one.
 ///
 /// Textures, emission maps and alpha modes are the material's maps
 /// (`gltf_textures::maps`).
@@ -707,33 +708,10 @@ fn pbr_material(m: &gltf::Material) -> Material {
             strength: max_e,
         };
     }
-    let alpha_r = (roughness * roughness).max(1e-3);
-    let exp = (2.0 / (alpha_r * alpha_r) - 2.0).clamp(1.0, 2000.0);
-    if metallic >= 0.5 && roughness <= 0.3 {
-        return Material::Reflective {
-            color: base,
-            ka: 0.25 * (1.0 - metallic),
-            kd: 1.0 - metallic,
-            ks: 0.0,
-            exp,
-            kr: metallic * (1.0 - roughness),
-            reflect: base,
-        };
-    }
-    if roughness < 0.6 {
-        return Material::Phong {
-            color: base,
-            ka: 0.25,
-            kd: 1.0 - 0.5 * metallic,
-            ks: 0.5 * (1.0 - roughness),
-            exp,
-            specular: Rgb::ONE.lerp(base, metallic),
-        };
-    }
-    Material::Matte {
-        color: base,
-        ka: 0.25,
-        kd: 1.0,
+    Material::MetallicRoughness {
+        base,
+        metallic,
+        roughness,
     }
 }
 

@@ -478,7 +478,10 @@ fn max3(c: [f32; 3]) -> f32 {
 ///   or ≤ 1), tinted by `Tf` when given;
 /// - `illum` 3 or 5, or `Ks` ≥ 0.5 and at least `Kd` → Reflective: the
 ///   mirror reflects `Ks`, the diffuse part is `Kd`;
-/// - `Ks` non-zero → Phong with exponent `Ns`;
+/// - `Pr` (roughness) or `Pm` (metalness) given → MetallicRoughness with
+///   base colour `Kd` (defaults: `Pr` 1, `Pm` 0);
+/// - `Ks` non-zero → Phong with exponent `Ns` (the glossy lobe the path
+///   tracer samples by cosine power);
 /// - otherwise Matte with colour `Kd`.
 #[allow(clippy::unnecessary_cast)] // tobj's numbers are f64 with the `f64` feature
 pub(crate) fn mtl_material(m: &tobj::Material) -> Material {
@@ -532,6 +535,23 @@ pub(crate) fn mtl_material(m: &tobj::Material) -> Material {
             .filter(|c| c.is_finite() && c.min_element() >= 0.0)
             .unwrap_or(Rgb::ONE);
         return Material::Dielectric { ior, tint };
+    }
+    // The PBR extension of MTL (`Pr` roughness, `Pm` metalness): glTF's
+    // metallic-roughness BRDF with `Kd` as the base colour.
+    let unit = |key: &str| {
+        m.unknown_param
+            .get(key)
+            .and_then(|s| s.split_whitespace().next()?.parse::<f32>().ok())
+            .filter(|x| x.is_finite())
+            .map(|x| x.clamp(0.0, 1.0))
+    };
+    let (pr, pm) = (unit("Pr"), unit("Pm"));
+    if pr.is_some() || pm.is_some() {
+        return Material::MetallicRoughness {
+            base: color.min(Rgb::ONE),
+            metallic: pm.unwrap_or(0.0),
+            roughness: pr.unwrap_or(1.0),
+        };
     }
     let max_ks = max3(ks);
     if matches!(illum, 3 | 5) || (max_ks >= 0.5 && max_ks >= max3(kd)) {
@@ -640,6 +660,13 @@ mod tests {
             ..base.clone()
         };
         assert!(matches!(mtl_material(&illum7), Material::Dielectric { ior, .. } if ior == 1.5));
+        let mut pbr = base.clone();
+        pbr.unknown_param.insert("Pr".into(), "0.25".into());
+        pbr.unknown_param.insert("Pm".into(), "2".into());
+        assert!(matches!(
+            mtl_material(&pbr),
+            Material::MetallicRoughness { metallic, roughness, .. } if metallic == 1.0 && roughness == 0.25
+        ));
         let mirror = tobj::Material {
             illumination_model: Some(3),
             specular: Some([0.9, 0.9, 0.9]),

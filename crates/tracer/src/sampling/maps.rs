@@ -126,6 +126,14 @@ impl Frame {
     pub fn to_world(&self, v: Vec3) -> Vec3 {
         self.x * v.x + self.y * v.y + self.z * v.z
     }
+
+    /// A world direction in the local frame (the inverse of
+    /// [`Frame::to_world`]).
+    #[inline]
+    #[must_use]
+    pub fn to_local(&self, v: Vec3) -> Vec3 {
+        Vec3::new(v.dot(self.x), v.dot(self.y), v.dot(self.z))
+    }
 }
 
 #[cfg(test)]
