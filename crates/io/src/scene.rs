@@ -15,8 +15,8 @@ use crate::schema::{
 use glam::{DMat4, DVec3};
 use gridrt_bbox::{Aabb, Real, Vec3};
 use gridrt_tracer::{
-    Camera, Geometry, Light, Material, MaterialId, Object, Projection, Rgb, Scene, Settings,
-    Textures, ThinLens,
+    Camera, Geometry, IntegratorChoice, Light, Material, MaterialId, Object, Projection, Rgb,
+    Scene, Settings, Textures, ThinLens,
 };
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -346,6 +346,17 @@ impl<'a> Builder<'a> {
                 if let Light::Environment { image, .. } = &mut lights[i] {
                     *image = Some(std::sync::Arc::new(img));
                 }
+            }
+        }
+        if settings.integrator == IntegratorChoice::Whitted {
+            if let Some(i) = lights
+                .iter()
+                .position(|l| matches!(l, Light::Environment { .. }))
+            {
+                self.warnings.push(format!(
+                    "{}: lights[{i}]: `integrator: Whitted` shows an Environment light only behind the objects and lights nothing with it: use `integrator: Path` (or `Auto`) for light from the environment",
+                    self.path.display()
+                ));
             }
         }
         if lights.is_empty() {
