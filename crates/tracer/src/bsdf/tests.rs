@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::float::to_f64;
+use crate::hard_meshes::SplitMix;
 use crate::sampling::maps::uniform_sphere;
 
 const PI: f64 = std::f64::consts::PI;
@@ -16,17 +17,13 @@ fn grid(n: u32) -> impl Iterator<Item = (Real, Real)> {
     })
 }
 
-/// A fixed-seed stream of numbers in [0, 1) (SplitMix64).
-struct Rng(u64);
+/// A fixed-seed stream of numbers in [0, 1): the top 24 bits of the
+/// random meshes' SplitMix64.
+struct Rng(SplitMix);
 
 impl Rng {
     fn next(&mut self) -> Real {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        ((z >> 40) as f64 / (1u64 << 24) as f64) as Real
+        ((self.0.next() >> 40) as f64 / (1u64 << 24) as f64) as Real
     }
 }
 
@@ -67,7 +64,7 @@ fn etap(b: &Micro, wo: Vec3, wi: Vec3) -> f64 {
 /// counted as energy, i.e. without its `1/η'²` radiance scale), the mean
 /// sampled direction and the fraction of samples that succeeded.
 fn sampled(b: &Micro, wo: Vec3, n: u32) -> (f64, Vec3, f64) {
-    let mut rng = Rng(7);
+    let mut rng = Rng(SplitMix(7));
     let (mut albedo, mut mean, mut ok) = (0.0, Vec3::ZERO, 0u32);
     for u in grid(n) {
         let Some(s) = b.sample(wo, rng.next(), u) else {
@@ -184,7 +181,7 @@ fn vanishing_roughness_converges_to_the_mirror() {
     let mut last_spread = f64::INFINITY;
     for roughness in [0.3f32, 0.1, 0.05] {
         let b = conductor(f0, roughness);
-        let mut rng = Rng(3);
+        let mut rng = Rng(SplitMix(3));
         let (mut spread, mut albedo) = (0.0, 0.0);
         let n = 64;
         for u in grid(n) {
@@ -215,7 +212,7 @@ fn vanishing_roughness_converges_to_the_mirror() {
 #[test]
 fn rough_glass_is_reciprocal_and_conserves_energy() {
     let b = glass(0.4);
-    let mut rng = Rng(11);
+    let mut rng = Rng(SplitMix(11));
     let mut checked = 0;
     for _ in 0..400 {
         let wo = uniform_sphere((rng.next(), rng.next()));

@@ -34,6 +34,8 @@
 mod random;
 
 pub use random::random_star;
+#[cfg(test)]
+pub(crate) use random::SplitMix;
 
 use crate::shapes::Triangle;
 use gridrt_bbox::{Ray, Real, Vec3};
