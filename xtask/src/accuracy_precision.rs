@@ -168,8 +168,8 @@ pub fn write_scene(scene: &Scene, shift: f64, dir: &Path, stem: &str) -> Res<Pat
                 util::write_atomic(&dir.join(&file), obj.as_bytes())?;
                 writeln!(t, "        Mesh(file: \"{file}\", material: {m}),")
             }
-            Geometry::Cuboid { .. } | Geometry::Spheres(_) => {
-                return Err("the precision study writes no boxes or sphere sets".into());
+            Geometry::Cuboid { .. } | Geometry::Spheres(_) | Geometry::Instance { .. } => {
+                return Err("the precision study writes no boxes, sphere sets or instances".into());
             }
         };
     }

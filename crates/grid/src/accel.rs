@@ -11,6 +11,18 @@ pub struct PrimHit {
     pub u: Real,
     /// Second surface parameter (triangles: barycentric of vertex 2).
     pub v: Real,
+    /// Which part of a compound primitive was hit (the triangle of an
+    /// instanced mesh); 0 for a simple primitive.
+    pub part: u32,
+}
+
+impl PrimHit {
+    /// The hit of a simple primitive (`part` 0).
+    #[inline]
+    #[must_use]
+    pub const fn new(t: Real, u: Real, v: Real) -> Self {
+        Self { t, u, v, part: 0 }
+    }
 }
 
 /// The answer of an accelerator's closest-hit query: the primitive's hit,
@@ -30,6 +42,8 @@ pub struct Hit {
     pub u: Real,
     /// Second surface parameter, as the primitive reported it.
     pub v: Real,
+    /// The part of a compound primitive, as the primitive reported it.
+    pub part: u32,
     /// Index of the primitive that was hit, in the order the accelerator
     /// was given the primitives.
     pub prim: u32,
@@ -40,7 +54,8 @@ pub struct Hit {
 
 impl PartialEq for Hit {
     fn eq(&self, other: &Self) -> bool {
-        (self.t, self.u, self.v, self.prim) == (other.t, other.u, other.v, other.prim)
+        (self.t, self.u, self.v, self.part, self.prim)
+            == (other.t, other.u, other.v, other.part, other.prim)
     }
 }
 
@@ -53,6 +68,7 @@ impl Hit {
             t: h.t,
             u: h.u,
             v: h.v,
+            part: h.part,
             prim,
             slot,
         }
@@ -154,7 +170,7 @@ pub trait Primitive: Sync {
 ///     }
 ///     fn closest_hit(&self, ray: &Ray, t0: Real, t1: Real) -> Option<PrimHit> {
 ///         let t = (self.0 - ray.origin.x) / ray.dir.x;
-///         (t >= t0 && t <= t1).then_some(PrimHit { t, u: 0.0, v: 0.0 })
+///         (t >= t0 && t <= t1).then_some(PrimHit::new(t, 0.0, 0.0))
 ///     }
 ///     fn closest_hits(
 ///         prims: &[Self],

@@ -22,7 +22,7 @@ use gridrt_bbox::{Ray, Real};
 ///         let disc = b * b - a * c;
 ///         if disc < 0.0 { return None; }
 ///         let t = (-b - disc.sqrt()) / a;
-///         (t0..=t1).contains(&t).then_some(PrimHit { t, u: 0.0, v: 0.0 })
+///         (t0..=t1).contains(&t).then_some(PrimHit::new(t, 0.0, 0.0))
 ///     }
 /// }
 ///

@@ -763,7 +763,7 @@ mod tests {
             [(-b - s) / a, (-b + s) / a]
                 .into_iter()
                 .find(|t| (t0..=t1).contains(t))
-                .map(|t| PrimHit { t, u: 0.0, v: 0.0 })
+                .map(|t| PrimHit::new(t, 0.0, 0.0))
         }
     }
 

@@ -562,7 +562,7 @@ impl Primitive for Ground {
     }
     fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
         let t = -ray.origin.y / ray.dir.y;
-        (t >= t_min && t <= t_max).then_some(PrimHit { t, u: 0.0, v: 0.0 })
+        (t >= t_min && t <= t_max).then_some(PrimHit::new(t, 0.0, 0.0))
     }
 }
 

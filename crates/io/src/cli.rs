@@ -747,6 +747,7 @@ fn triangle_count(s: &Scene) -> usize {
         .iter()
         .map(|o| match &o.geometry {
             Geometry::Mesh(m) => m.triangles.len(),
+            Geometry::Instance { mesh, .. } => mesh.triangles.len(),
             _ => 0,
         })
         .sum()
@@ -761,7 +762,7 @@ fn scene_counts(s: &Scene) -> String {
             Geometry::Spheres(set) => sp += set.spheres.len(),
             Geometry::Cuboid { .. } => bx += 1,
             Geometry::Plane { .. } => pl += 1,
-            Geometry::Mesh(_) => me += 1,
+            Geometry::Mesh(_) | Geometry::Instance { .. } => me += 1,
         }
     }
     let plural = |n: usize, w: &str| format!("{n} {w}{}", if n == 1 { "" } else { "s" });
@@ -829,15 +830,7 @@ fn info(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
     let bounds = s
         .objects
         .iter()
-        .fold(Aabb::EMPTY, |b, o| match &o.geometry {
-            Geometry::Sphere { center, radius } => b
-                .grow(*center - Vec3::splat(*radius))
-                .grow(*center + Vec3::splat(*radius)),
-            Geometry::Cuboid { min, max } => b.grow(*min).grow(*max),
-            Geometry::Spheres(set) => b.union(set.bounds()),
-            Geometry::Plane { .. } => b,
-            Geometry::Mesh(m) => m.positions.iter().fold(b, |b, p| b.grow(*p)),
-        });
+        .fold(Aabb::EMPTY, |b, o| b.union(o.geometry.bounds()));
     if !bounds.is_empty() {
         t += &format!(
             "bounds      {} to {} (planes excluded)\n",

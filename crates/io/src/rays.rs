@@ -229,6 +229,7 @@ mod tests {
             t: 1.5,
             u: 0.25,
             v: 0.5,
+            part: 0,
             prim: 7,
             slot: 3,
         };

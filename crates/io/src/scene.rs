@@ -2,22 +2,21 @@
 //! files rendered on their own, turned into the tracer's [`Scene`].
 
 use crate::error::{Error, Result};
-use crate::model::texture_load;
+#[path = "scene_mesh.rs"]
+mod scene_mesh;
 use crate::model::{self, to_dvec3, to_vec3, Model, ModelFormat};
 use crate::model_scene::{frame, scene_from_model};
 use crate::ron_text::{line_col, ron_error, Outline};
 use crate::sandbox::Sandbox;
 use crate::scene_lights;
-use crate::scene_transform::transform_matrix;
-use crate::schema::{
-    self, CameraDesc, LightDesc, ObjectDesc, ProjectionDesc, SceneFile, TransformDesc,
-};
-use glam::{DMat4, DVec3};
+use crate::schema::{self, CameraDesc, LightDesc, ObjectDesc, ProjectionDesc, SceneFile};
+use glam::DVec3;
 use gridrt_bbox::{Aabb, Real, Vec3};
 use gridrt_tracer::{
     Camera, Geometry, IntegratorChoice, Light, Material, MaterialId, Object, Projection, Rgb,
     Scene, Settings, Textures, ThinLens,
 };
+use scene_mesh::{MeshDesc, SharedFile};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -167,6 +166,11 @@ struct Builder<'a> {
     /// Models read so far, by canonical path: a model named by many
     /// objects is read once.
     models: HashMap<PathBuf, Model>,
+    /// How many `Mesh` objects name each file with each normals setting
+    /// ([`scene_mesh::share_key`]): files named more than once are shared.
+    mesh_uses: HashMap<String, u32>,
+    /// Model files prepared for sharing, by canonical path and share key.
+    shared: HashMap<(PathBuf, String), SharedFile>,
     /// Primitives so far (spheres, boxes, planes, triangles).
     primitives: u64,
     materials: Vec<Material>,
@@ -217,6 +221,8 @@ impl<'a> Builder<'a> {
             outline: std::cell::OnceCell::new(),
             current: None,
             models: HashMap::new(),
+            mesh_uses: HashMap::new(),
+            shared: HashMap::new(),
             primitives: 0,
             materials: Vec::new(),
             names: Vec::new(),
@@ -308,6 +314,14 @@ impl<'a> Builder<'a> {
                         planned,
                     ));
                 }
+            }
+        }
+        for obj in &file.objects {
+            if let ObjectDesc::Mesh { file, normals, .. } = obj {
+                *self
+                    .mesh_uses
+                    .entry(scene_mesh::share_key(file, *normals))
+                    .or_default() += 1;
             }
         }
         for (i, obj) in file.objects.iter().enumerate() {
@@ -607,11 +621,13 @@ impl<'a> Builder<'a> {
                 normals,
             } => self.mesh(
                 &what,
-                file,
-                transform,
-                material.as_deref(),
-                materials,
-                *normals,
+                &MeshDesc {
+                    file,
+                    transform,
+                    material: material.as_deref(),
+                    overrides: materials,
+                    normals: *normals,
+                },
             )?,
             ObjectDesc::RandomSpheres {
                 count,
@@ -666,152 +682,21 @@ impl<'a> Builder<'a> {
         }
         Ok(())
     }
-
-    fn mesh(
-        &mut self,
-        what: &str,
-        file: &str,
-        transform: &[TransformDesc],
-        material: Option<&str>,
-        overrides: &schema::NamedMap<String>,
-        normals: model::Normals,
-    ) -> Result<()> {
-        let needle = format!("\"{file}\"");
-        let place = |b: &Self| b.place(Some(&needle), what);
-        let mesh_error = |b: &Self, e: Error| match e {
-            Error::Denied {
-                reference, model, ..
-            } if !model => Error::Denied {
-                path: b.path.to_path_buf(),
-                place: place(b),
-                reference,
-                model,
-            },
-            e => Error::Mesh {
-                scene: b.path.to_path_buf(),
-                place: place(b),
-                source: Box::new(e),
-            },
-        };
-        let shown = self
-            .path
-            .parent()
-            .map_or_else(|| PathBuf::from(file), |d| d.join(file));
-        let real = self
-            .sandbox
-            .resolve(self.real, Path::new(file), false)
-            .map_err(|e| mesh_error(self, e))?;
-        let cached = match self.models.get(&real) {
-            Some(m) => m.clone(),
-            None => {
-                let m = model::load_resolved(&shown, &real, self.sandbox)
-                    .map_err(|e| mesh_error(self, e))?;
-                self.models.insert(real.clone(), m.clone());
-                m
-            }
-        };
-        self.count_primitives(cached.triangle_count() as u64, what)?;
-        let mut model = cached;
-        if !transform.is_empty() {
-            let m = transform
-                .iter()
-                .fold(DMat4::IDENTITY, |acc, op| transform_matrix(op) * acc);
-            model.transform(&m).map_err(|e| {
-                Error::scene(
-                    self.path,
-                    place(self),
-                    format!("transform of \"{file}\": {e}"),
-                )
-            })?;
-        }
-        for (from, _) in &overrides.0 {
-            if !model.materials.iter().any(|m| &m.name == from) {
-                let have: Vec<&str> = model.materials.iter().map(|m| m.name.as_str()).collect();
-                return Err(Error::scene(
-                    self.path,
-                    self.place(Some(&format!("\"{from}\"")), what),
-                    format!(
-                        "\"{file}\" has no material \"{from}\" to override; its materials are: {}",
-                        if have.is_empty() {
-                            "(none)".to_string()
-                        } else {
-                            have.join(", ")
-                        }
-                    ),
-                ));
-            }
-        }
-        let forced = match material {
-            Some(name) => Some(self.material_id(Some(name), what)?),
-            None => None,
-        };
-        // File material index → scene material id, filled as meshes use them.
-        let mut mapped: Vec<Option<MaterialId>> = vec![None; model.materials.len()];
-        let offset = model::texture_load::append(&mut self.textures, &model.textures);
-        let stem = Path::new(file)
-            .file_name()
-            .map_or_else(|| file.to_string(), |n| n.to_string_lossy().into_owned());
-        for mm in &model.meshes {
-            let id = match mm.material {
-                Some(k) => {
-                    if let Some(id) = mapped[k] {
-                        id
-                    } else {
-                        let fm = &model.materials[k];
-                        let id = match overrides.get(&fm.name) {
-                            Some(to) => self.material_id(Some(to), what)?,
-                            None => match forced {
-                                Some(f) => f,
-                                None => {
-                                    let name = format!("{stem}:{}", fm.name);
-                                    let id = self.push_material(name, fm.material.clone());
-                                    texture_load::bind(&mut self.textures, id, &fm.maps, offset);
-                                    id
-                                }
-                            },
-                        };
-                        mapped[k] = Some(id);
-                        id
-                    }
-                }
-                None => match forced {
-                    Some(f) => f,
-                    None => self.default_material(),
-                },
-            };
-            let mut mesh = mm.oriented();
-            normals.apply(&mut mesh);
-            self.objects.push(Object {
-                geometry: Geometry::Mesh(Box::new(mesh)),
-                material: id,
-            });
-        }
-        self.warnings.append(&mut model.warnings);
-        Ok(())
-    }
 }
 
 /// The box around every bounded object (planes are infinite and left out).
 fn finite_bounds(objects: &[Object]) -> Aabb {
-    objects.iter().fold(Aabb::EMPTY, |b, o| match &o.geometry {
-        Geometry::Sphere { center, radius } => b.union(Aabb::new(
-            *center - Vec3::splat(*radius),
-            *center + Vec3::splat(*radius),
-        )),
-        Geometry::Cuboid { min, max } => b.union(Aabb::new(*min, *max)),
-        Geometry::Spheres(set) => b.union(set.bounds()),
-        Geometry::Plane { .. } => b,
-        Geometry::Mesh(m) => m
-            .triangles
-            .iter()
-            .flatten()
-            .fold(b, |b, &i| b.grow(m.positions[i as usize])),
-    })
+    objects
+        .iter()
+        .fold(Aabb::EMPTY, |b, o| b.union(o.geometry.bounds()))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene_transform::transform_matrix;
+    use crate::schema::TransformDesc;
+    use glam::DMat4;
 
     fn parse(text: &str) -> Result<LoadedScene> {
         parse_scene(text, Path::new("t.ron"))

@@ -12,6 +12,7 @@ mod environment;
 mod farm;
 mod fixture_scenes;
 mod full_precision;
+mod instancing;
 mod models;
 mod normals;
 mod passes;

@@ -255,38 +255,48 @@ fn scene_meshes_take_transforms_and_material_overrides() {
     let s = parse_scene(text, &crate::fixtures().join("inline.ron")).unwrap();
     let sc = &s.scene;
     assert_eq!(sc.objects.len(), 12);
-    let meshes: Vec<_> = sc
+    // The file is named twice: both objects place one shared copy of each
+    // of its meshes.
+    let placed: Vec<_> = sc
         .objects
         .iter()
         .map(|o| match &o.geometry {
-            Geometry::Mesh(m) => (m, o.material),
+            Geometry::Instance { mesh, to_world } => (mesh, **to_world, o.material),
             other => panic!("{other:?}"),
         })
         .collect();
+    for (a, b) in placed[..6].iter().zip(&placed[6..]) {
+        assert!(std::sync::Arc::ptr_eq(a.0, b.0));
+    }
+    let world = |k: std::ops::Range<usize>| {
+        placed[k]
+            .iter()
+            .flat_map(|(m, a, _)| m.positions.iter().map(|p| a.point(*p)))
+            .fold(Aabb::EMPTY, Aabb::grow)
+    };
     // First copy: (0..2)³ → (-1..1)³ → (-2..2)³ → x + 10.
-    let b = meshes[..6]
-        .iter()
-        .flat_map(|(m, _)| m.positions.iter().copied())
-        .fold(Aabb::EMPTY, Aabb::grow);
-    assert_box(b, [8.0, -2.0, -2.0], [12.0, 2.0, 2.0]);
+    assert_box(world(0..6), [8.0, -2.0, -2.0], [12.0, 2.0, 2.0]);
     // "right cube" uses red → overridden to glass (id 0); the rest → steel (id 1).
-    assert_eq!(meshes[2].1, 0);
-    assert!(meshes[..6]
+    assert_eq!(placed[2].2, 0);
+    assert!(placed[..6]
         .iter()
         .enumerate()
-        .all(|(i, (_, id))| i == 2 || *id == 1));
+        .all(|(i, (_, _, id))| i == 2 || *id == 1));
     // Second copy: mirrored in x, file materials added under "cube.obj:<name>".
-    let b = meshes[6..]
-        .iter()
-        .flat_map(|(m, _)| m.positions.iter().copied())
-        .fold(Aabb::EMPTY, Aabb::grow);
-    assert_box(b, [-2.0, 0.0, 0.0], [0.0, 2.0, 2.0]);
+    assert_box(world(6..12), [-2.0, 0.0, 0.0], [0.0, 2.0, 2.0]);
     assert!(sc.materials.len() >= 4);
-    // Mirrored meshes are re-wound: the front face (z = 2) still faces +z.
-    let (front, _) = meshes[6];
-    let t = front.triangles[0];
-    let p: Vec<Vec3> = t.iter().map(|&k| front.positions[k as usize]).collect();
-    assert!((p[1] - p[0]).cross(p[2] - p[0]).z > 0.0);
+    // Under the mirror the front face (z = 2) still faces +z: normals map
+    // by the inverse transpose, whatever the winding.
+    let (front, a, _) = &placed[6];
+    let p: Vec<Vec3> = front.triangles[0]
+        .iter()
+        .map(|&k| front.positions[k as usize])
+        .collect();
+    let n = a
+        .inverse()
+        .unwrap()
+        .transpose_vector((p[1] - p[0]).cross(p[2] - p[0]));
+    assert!(n.z > 0.0);
 }
 
 #[test]

@@ -153,6 +153,14 @@ pub enum SceneError {
         /// What is wrong and what to do.
         reason: &'static str,
     },
+    /// An instance's transform cannot be used.
+    #[error("object {object}: {reason}")]
+    BadTransform {
+        /// Object index.
+        object: usize,
+        /// What is wrong and what to do.
+        reason: &'static str,
+    },
     /// A light parameter is out of range.
     #[error("light {light}: {reason}")]
     BadLight {

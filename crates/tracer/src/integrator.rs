@@ -8,7 +8,7 @@ use crate::plan::RayCounts;
 use crate::robustness::RayOffset;
 use crate::sampling::SampleStream;
 use crate::scene::{Material, Rgb};
-use crate::shapes::{Plane, Surface, SurfacePoint};
+use crate::shapes::{Instance, Plane, Surface, SurfacePoint};
 use crate::texture::shade::{self, TextureData, TriFrame};
 use gridrt_bbox::{Ray, Real, Vec3};
 use gridrt_grid::{Accelerator, Hit};
@@ -41,6 +41,16 @@ impl MeshRef {
         mesh: u32::MAX,
         tri: 0,
     };
+}
+
+/// A hit's mesh triangle with shading data: the mesh's tables, the
+/// triangle's vertex indices, and the instance that placed it (whose
+/// transform carries the mesh's normals and texture frames to world space).
+pub(crate) struct MeshTriangle<'a> {
+    mesh: &'a MeshShading,
+    corners: [u32; 3],
+    tri: u32,
+    instance: Option<&'a Instance>,
 }
 
 /// A point or directional light, ready for shading.
@@ -357,7 +367,9 @@ where
             return false;
         };
         let p = ray.at(h.t);
-        let uv = self.uv_at(i, h.u, h.v);
+        let uv = self
+            .mesh_triangle(h)
+            .and_then(|t| Self::uv_at(&t, h.u, h.v));
         // Alpha is read at the finest level: cut-out edges stay sharp.
         let q = crate::texture::TexQuery {
             uv: uv.map_or(glam::Vec2::ZERO, |(uv, _)| uv),
@@ -367,34 +379,78 @@ where
         self.data.tex.passes(maps, &q, ray, h.t)
     }
 
-    /// Texture coordinates and the triangle's texture frame at barycentrics
-    /// `(u, v)` of primitive `i`, when it is a textured mesh triangle.
+    /// The mesh triangle a hit is on, when its mesh has shading data
+    /// (normals, colours or texture coordinates), with the instance that
+    /// placed it.
     #[inline]
-    fn uv_at(&self, i: usize, u: Real, v: Real) -> Option<(glam::Vec2, TriFrame)> {
-        let m = self.data.prim_mesh.get(i).filter(|m| m.mesh != u32::MAX)?;
-        let mesh = &self.data.meshes[m.mesh as usize];
-        let frame = *mesh.frames.get(m.tri as usize)?;
-        let [a, b, c] = mesh.triangles[m.tri as usize];
+    fn mesh_triangle(&self, h: &Hit) -> Option<MeshTriangle<'_>> {
+        let prim = &self.accel.primitives()[h.slot as usize];
+        let (m, instance) = match prim.instance() {
+            Some(inst) => (
+                MeshRef {
+                    mesh: inst.shared().shading,
+                    tri: h.part,
+                },
+                Some(inst),
+            ),
+            None => (*self.data.prim_mesh.get(h.prim as usize)?, None),
+        };
+        let mesh = self.data.meshes.get(m.mesh as usize)?;
+        Some(MeshTriangle {
+            mesh,
+            corners: mesh.triangles[m.tri as usize],
+            tri: m.tri,
+            instance,
+        })
+    }
+
+    /// Texture coordinates and the triangle's texture frame at barycentrics
+    /// `(u, v)` of a textured mesh triangle.
+    #[inline]
+    fn uv_at(t: &MeshTriangle, u: Real, v: Real) -> Option<(glam::Vec2, TriFrame)> {
+        let mesh = t.mesh;
+        let mut frame = *mesh.frames.get(t.tri as usize)?;
+        let [a, b, c] = t.corners;
         let (u, v) = (crate::float::to_f32(u), crate::float::to_f32(v));
         let uv = mesh.uvs[a as usize] * (1.0 - u - v)
             + mesh.uvs[b as usize] * u
             + mesh.uvs[c as usize] * v;
+        if let Some(inst) = t.instance {
+            frame = inst.frame_to_world(frame);
+        }
         Some((uv, frame))
     }
 
-    /// The interpolated vertex colour at barycentrics `(u, v)` of
-    /// primitive `i`, when it is a triangle of a mesh with colours.
+    /// The interpolated vertex colour at barycentrics `(u, v)` of a mesh
+    /// triangle, when its mesh has colours.
     #[inline]
-    fn vertex_color(&self, i: usize, u: Real, v: Real) -> Option<Rgb> {
-        let m = self.data.prim_mesh.get(i).filter(|m| m.mesh != u32::MAX)?;
-        let mesh = &self.data.meshes[m.mesh as usize];
-        if mesh.colors.is_empty() {
+    fn vertex_color(t: &MeshTriangle, u: Real, v: Real) -> Option<Rgb> {
+        let colors = &t.mesh.colors;
+        if colors.is_empty() {
             return None;
         }
-        let [a, b, c] = mesh.triangles[m.tri as usize];
+        let [a, b, c] = t.corners;
         let (u, v) = (crate::float::to_f32(u), crate::float::to_f32(v));
-        let k = |j: u32| mesh.colors[j as usize];
+        let k = |j: u32| colors[j as usize];
         Some(k(a) * (1.0 - u - v) + k(b) * u + k(c) * v)
+    }
+
+    /// The interpolated vertex normal at barycentrics `(u, v)` of a mesh
+    /// triangle, in world space (not unit length), when its mesh has
+    /// normals.
+    #[inline]
+    fn vertex_normal(t: &MeshTriangle, u: Real, v: Real) -> Option<Vec3> {
+        let normals = &t.mesh.normals;
+        if normals.is_empty() {
+            return None;
+        }
+        let [a, b, c] = t.corners;
+        let n =
+            normals[a as usize] * (1.0 - u - v) + normals[b as usize] * u + normals[c as usize] * v;
+        Some(match t.instance {
+            Some(inst) => inst.normal_to_world(n),
+            None => n,
+        })
     }
 
     /// Whether anything lies on the ray within `[0, t_max]`.
@@ -445,33 +501,30 @@ where
                 // The accelerator's own storage (a grid's cell order) holds
                 // the primitive in `slot`; the per-primitive tables go by
                 // primitive index.
-                let sp = self.accel.primitives()[h.slot as usize].surface(ray, h.t, h.u, h.v);
+                let sp =
+                    self.accel.primitives()[h.slot as usize].surface_of(ray, h.t, h.u, h.v, h.part);
+                let tri = self.mesh_triangle(&h);
                 let mut ns = sp.n;
-                if let Some(m) = self.data.prim_mesh.get(i) {
-                    let mesh = self.data.meshes.get(m.mesh as usize);
-                    if let Some(mesh) = mesh.filter(|mesh| !mesh.normals.is_empty()) {
-                        let [a, b, c] = mesh.triangles[m.tri as usize];
-                        let n = mesh.normals[a as usize] * (1.0 - h.u - h.v)
-                            + mesh.normals[b as usize] * h.u
-                            + mesh.normals[c as usize] * h.v;
-                        // Keep the shading normal on the geometric front side.
-                        if let Some(n) = n.try_normalize() {
-                            ns = if n.dot(sp.n) < 0.0 { -n } else { n };
-                        }
-                    }
+                // Keep the shading normal on the geometric front side.
+                if let Some(n) = tri
+                    .as_ref()
+                    .and_then(|t| Self::vertex_normal(t, h.u, h.v)?.try_normalize())
+                {
+                    ns = if n.dot(sp.n) < 0.0 { -n } else { n };
                 }
                 let sh = Shading {
                     t: h.t,
                     sp,
                     material: self.data.prim_material.get(i),
                     ns,
-                    albedo: self
-                        .vertex_color(i, h.u, h.v)
+                    albedo: tri
+                        .as_ref()
+                        .and_then(|t| Self::vertex_color(t, h.u, h.v))
                         .or_else(|| self.data.prim_albedo.get(i).copied()),
                     emission: Rgb::ZERO,
                     metal_rough: None,
                 };
-                self.textured(ray, sh, || self.uv_at(i, h.u, h.v))
+                self.textured(ray, sh, || tri.and_then(|t| Self::uv_at(&t, h.u, h.v)))
             }
             Found::Plane { index, t } => {
                 let sp = self.data.planes[index as usize].surface(ray, t);

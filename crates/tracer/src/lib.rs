@@ -78,6 +78,7 @@ mod error;
 mod float;
 mod framebuffer;
 pub mod hard_meshes;
+mod instancing;
 mod integrator;
 mod lights;
 pub mod offset_scenes;
@@ -96,6 +97,7 @@ mod shapes;
 mod stats;
 pub mod suffern;
 pub mod texture;
+mod transform;
 mod validate;
 mod whitted;
 
@@ -103,6 +105,7 @@ pub use aov::{Aov, AovImage};
 pub use error::{Cancelled, SceneError};
 pub use framebuffer::{Framebuffer, LiveImage, PixelRect};
 pub use gridrt_grid::Accelerator;
+pub use instancing::InstancingStats;
 pub use plan::{EffectPlan, IntegratorKind, RayCounts};
 pub use prepare::MAX_PIXELS;
 pub use render::{render, AccelKind, RenderOptions, RenderStats, Renderer};
@@ -114,6 +117,7 @@ pub use scene::{
 };
 pub use shapes::{Cuboid, MtTriangle, Plane, Shape, Sphere, Triangle, MT_EPSILON};
 pub use texture::{MaterialMaps, Texture, TextureRef, Textures};
+pub use transform::Affine;
 
 /// The README's Rust examples, compiled and run as doc tests.
 #[cfg(doctest)]

@@ -4,14 +4,17 @@
 use crate::camera::CameraModel;
 use crate::emitters::EmitterShape;
 use crate::error::SceneError;
+use crate::instancing::{flattened, InstancingStats, SharedMeshes};
 use crate::integrator::{DirectLight, MeshRef, MeshShading, PrimColors, PrimMaterials, SceneData};
 use crate::lights::{AreaLight, Environment};
 use crate::plan::{EffectPlan, IntegratorKind};
-use crate::scene::{Geometry, Light, Material, Rgb, Scene, SphereSet};
-use crate::shapes::{Cuboid, Plane, Shape, Sphere, Triangle};
+use crate::scene::{Geometry, Light, Material, Mesh, Rgb, Scene, SphereSet};
+use crate::shapes::{Cuboid, Instance, MeshGrid, Plane, Shape, Sphere, Triangle};
 use crate::texture::shade::{TextureData, TriFrame};
 use crate::validate::validate;
 use gridrt_bbox::{Real, Vec3};
+use gridrt_grid::GridConfig;
+use std::collections::HashMap;
 use std::sync::Arc;
 
 /// The largest image, in pixels, the renderer accepts (8192 × 8192).
@@ -47,18 +50,26 @@ pub(crate) struct Prepared {
     pub width: u32,
     pub height: u32,
     pub spp: u32,
+    pub instancing: InstancingStats,
 }
 
 /// Validates the scene and converts it. Triangles of zero area are left
 /// out of the grid (they can never be hit).
-pub(crate) fn prepare(scene: &Scene) -> Result<Prepared, SceneError> {
-    let (count, all_spheres) = validate(scene)?;
+pub(crate) fn prepare(scene: &Scene, mesh_grid: &GridConfig) -> Result<Prepared, SceneError> {
+    let shared = SharedMeshes::of(scene);
+    let (count, all_spheres) = validate(scene, &shared)?;
     let s = &scene.settings;
     let camera = CameraModel::new(&scene.camera, s.width, s.height)?;
     let mut plan = EffectPlan::for_scene(scene);
     let mut data = shading_data(scene, &plan);
     data.tex = texture_data(scene, camera.footprint());
-    let prims = convert(scene, count, all_spheres, plan.light_sampling, &mut data);
+    let (prims, instancing) = convert(
+        scene,
+        Counts { count, all_spheres },
+        &Instancing { shared, mesh_grid },
+        plan.light_sampling,
+        &mut data,
+    );
     data.emitters.finish(prims.len());
     plan.area_lights = data.emitters.list.len() as u32;
     // The path tracer samples the image; Whitted only sees it.
@@ -91,6 +102,7 @@ pub(crate) fn prepare(scene: &Scene) -> Result<Prepared, SceneError> {
         width: s.width,
         height: s.height,
         spp: s.spp,
+        instancing,
     })
 }
 
@@ -265,8 +277,8 @@ fn add_emitter(data: &mut SceneData, prim: usize, shape: &Shape, material: u32) 
     if radiance == Rgb::ZERO {
         return;
     }
-    let shape = match *shape {
-        Shape::Triangle(t) | Shape::MtTriangle(crate::shapes::MtTriangle(t)) => {
+    let shape = match shape {
+        &Shape::Triangle(t) | &Shape::MtTriangle(crate::shapes::MtTriangle(t)) => {
             let [p0, p1, p2] = t.vertices();
             let (e1, e2) = (p1 - p0, p2 - p0);
             let Some(n) = e1.cross(e2).try_normalize() else {
@@ -274,12 +286,13 @@ fn add_emitter(data: &mut SceneData, prim: usize, shape: &Shape, material: u32) 
             };
             EmitterShape::Triangle { p0, e1, e2, n }
         }
-        Shape::Sphere(sp) => EmitterShape::Sphere {
+        &Shape::Sphere(sp) => EmitterShape::Sphere {
             center: sp.center,
             radius: sp.radius,
         },
         // Boxes are not sampled; paths that hit them still see their light.
-        Shape::Cuboid(_) => return,
+        // Emissive instances are flattened (`instancing`), never shared.
+        Shape::Cuboid(_) | Shape::Instance(_) => return,
     };
     data.emitters.push(prim, shape, radiance);
 }
@@ -312,13 +325,25 @@ fn mesh_shading(m: &crate::scene::Mesh, uvs: bool) -> MeshShading {
 /// Fills `data` with the primitives' materials and returns the primitives:
 /// each object's in turn (a sphere set's in the set's order, a mesh's in
 /// triangle order without the degenerate ones).
-fn convert(
-    scene: &Scene,
+/// What validation counted: grid primitives, and whether all are spheres.
+struct Counts {
     count: usize,
     all_spheres: bool,
+}
+
+/// Which meshes stay shared, and how to build their grids.
+struct Instancing<'a> {
+    shared: SharedMeshes,
+    mesh_grid: &'a GridConfig,
+}
+
+fn convert(
+    scene: &Scene,
+    Counts { count, all_spheres }: Counts,
+    instancing: &Instancing,
     sample_lights: bool,
     data: &mut SceneData,
-) -> Prims {
+) -> (Prims, InstancingStats) {
     // One material for every primitive: no per-primitive table.
     let materials = || {
         scene
@@ -344,7 +369,12 @@ fn convert(
         .any(|o| matches!(&o.geometry, Geometry::Spheres(set) if !set.colors.is_empty()));
     let smooth = textured
         || scene.objects.iter().any(|o| {
-            matches!(&o.geometry, Geometry::Mesh(m) if !m.normals.is_empty() || !m.colors.is_empty())
+            let m = match &o.geometry {
+                Geometry::Mesh(m) => &**m,
+                Geometry::Instance { mesh, .. } => &**mesh,
+                _ => return false,
+            };
+            !m.normals.is_empty() || !m.colors.is_empty()
         });
     let mut per_prim = Vec::new();
     if uniform.is_none() {
@@ -396,9 +426,10 @@ fn convert(
             if !set.colors.is_empty() {
                 data.prim_albedo = PrimColors::Set(Arc::clone(set));
             }
-            return Prims::Set(Arc::clone(set));
+            return (Prims::Set(Arc::clone(set)), InstancingStats::default());
         }
     }
+    let mut stats = InstancingStats::default();
     let prims = if all_spheres {
         let mut spheres: Vec<Sphere> = Vec::with_capacity(count);
         for o in &scene.objects {
@@ -423,8 +454,15 @@ fn convert(
         Prims::Spheres(spheres)
     } else {
         let mut shapes: Vec<Shape> = Vec::with_capacity(count);
+        let mut grids: HashMap<*const Mesh, Arc<MeshGrid>> = HashMap::new();
         for o in &scene.objects {
             let first = shapes.len();
+            let flat = match &o.geometry {
+                Geometry::Instance { mesh, to_world } if !instancing.shared.keeps(scene, o) => {
+                    flattened(mesh, to_world)
+                }
+                _ => None,
+            };
             match &o.geometry {
                 Geometry::Sphere { center, radius } => {
                     shapes.push(Sphere::new(*center, *radius).into());
@@ -439,29 +477,59 @@ fn convert(
                     record(o.material, 1, &[], data);
                 }
                 Geometry::Plane { .. } => {}
-                Geometry::Mesh(m) => {
-                    let uvs = textured && !m.uvs.is_empty() && data.tex.of(o.material).is_some();
-                    let mesh_id = if m.normals.is_empty() && m.colors.is_empty() && !uvs {
-                        u32::MAX
-                    } else {
-                        data.meshes.push(mesh_shading(m, uvs));
-                        (data.meshes.len() - 1) as u32
-                    };
-                    for (t, &[a, b, c]) in m.triangles.iter().enumerate() {
-                        let p = |k: u32| -> Vec3 { m.positions[k as usize] };
-                        let tri = Triangle::new(p(a), p(b), p(c));
-                        if tri.is_degenerate() {
-                            continue;
+                Geometry::Mesh(_) => {}
+                Geometry::Instance { mesh, to_world } => {
+                    if flat.is_none() {
+                        let grid =
+                            Arc::clone(grids.entry(Arc::as_ptr(mesh)).or_insert_with(|| {
+                                let uvs = textured && !mesh.uvs.is_empty();
+                                let shading =
+                                    if mesh.normals.is_empty() && mesh.colors.is_empty() && !uvs {
+                                        u32::MAX
+                                    } else {
+                                        data.meshes.push(mesh_shading(mesh, uvs));
+                                        (data.meshes.len() - 1) as u32
+                                    };
+                                Arc::new(MeshGrid::new(
+                                    Arc::clone(mesh),
+                                    instancing.mesh_grid,
+                                    shading,
+                                ))
+                            }));
+                        if let Some(inst) = Instance::new(grid, **to_world) {
+                            shapes.push(Shape::Instance(Arc::new(inst)));
+                            stats.instances += 1;
+                            record(o.material, 1, &[], data);
                         }
-                        shapes.push(Shape::from(tri));
-                        record(o.material, 1, &[], data);
-                        if smooth {
-                            if let Some(last) = data.prim_mesh.last_mut() {
-                                *last = MeshRef {
-                                    mesh: mesh_id,
-                                    tri: t as u32,
-                                };
-                            }
+                    }
+                }
+            }
+            let mesh = match &o.geometry {
+                Geometry::Mesh(m) => Some(&**m),
+                _ => flat.as_ref(),
+            };
+            if let Some(m) = mesh {
+                let uvs = textured && !m.uvs.is_empty() && data.tex.of(o.material).is_some();
+                let mesh_id = if m.normals.is_empty() && m.colors.is_empty() && !uvs {
+                    u32::MAX
+                } else {
+                    data.meshes.push(mesh_shading(m, uvs));
+                    (data.meshes.len() - 1) as u32
+                };
+                for (t, &[a, b, c]) in m.triangles.iter().enumerate() {
+                    let p = |k: u32| -> Vec3 { m.positions[k as usize] };
+                    let tri = Triangle::new(p(a), p(b), p(c));
+                    if tri.is_degenerate() {
+                        continue;
+                    }
+                    shapes.push(Shape::from(tri));
+                    record(o.material, 1, &[], data);
+                    if smooth {
+                        if let Some(last) = data.prim_mesh.last_mut() {
+                            *last = MeshRef {
+                                mesh: mesh_id,
+                                tri: t as u32,
+                            };
                         }
                     }
                 }
@@ -472,6 +540,9 @@ fn convert(
                 }
             }
         }
+        stats.shared_meshes = grids.len();
+        stats.bytes = grids.values().map(|g| g.bytes()).sum::<usize>()
+            + stats.instances * std::mem::size_of::<Instance>();
         Prims::Shapes(shapes)
     };
     data.prim_material = match uniform {
@@ -479,7 +550,7 @@ fn convert(
         None => PrimMaterials::PerPrim(per_prim),
     };
     data.prim_albedo = PrimColors::Own(albedos);
-    prims
+    (prims, stats)
 }
 
 #[cfg(test)]
@@ -500,7 +571,7 @@ mod tests {
     #[test]
     fn a_coloured_set_is_one_material_and_its_colours() {
         let scene = suffern::scene(50);
-        let p = prepare(&scene).unwrap();
+        let p = prepare(&scene, &GridConfig::default()).unwrap();
         assert!(matches!(p.data.prim_material, PrimMaterials::Uniform(0)));
         let Geometry::Spheres(set) = &scene.objects[0].geometry else {
             panic!("the benchmark is one sphere set");
@@ -533,7 +604,7 @@ mod tests {
             colors: Vec::new(),
         };
         scene.objects.push(set_object(plain, 1));
-        let p = prepare(&scene).unwrap();
+        let p = prepare(&scene, &GridConfig::default()).unwrap();
         let Geometry::Spheres(set) = &scene.objects[1].geometry else {
             panic!("object 1 is the benchmark's set");
         };
@@ -558,7 +629,7 @@ mod tests {
             },
             0,
         ));
-        let p = prepare(&scene).unwrap();
+        let p = prepare(&scene, &GridConfig::default()).unwrap();
         assert!(p.data.prim_albedo.is_empty());
         assert!(matches!(p.data.prim_material, PrimMaterials::Uniform(0)));
         assert_eq!(p.prims.len(), 4);

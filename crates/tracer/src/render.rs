@@ -4,6 +4,7 @@
 use crate::camera::CameraModel;
 use crate::error::{Cancelled, SceneError};
 use crate::framebuffer::{Framebuffer, LiveImage, PixelRect};
+use crate::instancing::InstancingStats;
 use crate::integrator::{Found, Integrator, Li, SceneData, Shading, ThreadState, Tracer, Whitted};
 use crate::path::PathTracer;
 use crate::plan::{EffectPlan, IntegratorKind, RayCounts};
@@ -109,6 +110,7 @@ pub struct Renderer {
     build_time: Duration,
     grid_stats: Option<GridStats>,
     prim_count: usize,
+    instancing: InstancingStats,
     pool: Pool,
 }
 
@@ -173,6 +175,14 @@ impl Renderer {
     /// A [`SceneError`] naming the first problem found.
     pub fn new(scene: &Scene, options: &RenderOptions) -> Result<Renderer, SceneError> {
         let start = Instant::now();
+        let pool = Pool::new(options.threads);
+        let parallel = pool.is_parallel();
+        // Shared meshes get grids like the scene's (the exhaustive
+        // accelerator, a reference for the scene's level, keeps them).
+        let mesh_grid = grid_config(options, parallel).unwrap_or(GridConfig {
+            parallel_build: parallel,
+            ..options.grid
+        });
         let Prepared {
             mut data,
             prims,
@@ -181,11 +191,10 @@ impl Renderer {
             width,
             height,
             spp,
-        } = prepare(scene)?;
+            instancing,
+        } = pool.install(|| prepare(scene, &mesh_grid))?;
         data.ray_offset = options.ray_offset;
         let prims = with_triangle_test(prims, options.triangle_test);
-        let pool = Pool::new(options.threads);
-        let parallel = pool.is_parallel();
         let prim_count = prims.len() + data.planes.len();
         let (accel, grid_stats) = pool.install(|| match prims {
             Prims::Spheres(v) => {
@@ -224,6 +233,7 @@ impl Renderer {
             build_time: start.elapsed(),
             grid_stats,
             prim_count,
+            instancing,
             pool,
         })
     }
@@ -232,6 +242,13 @@ impl Renderer {
     #[must_use]
     pub fn plan(&self) -> &EffectPlan {
         &self.plan
+    }
+
+    /// What instancing kept shared: meshes with a grid of their own, their
+    /// placements, and the memory both take.
+    #[must_use]
+    pub fn instancing(&self) -> &InstancingStats {
+        &self.instancing
     }
 
     /// The grid's statistics (`None` for the exhaustive accelerator).

@@ -186,6 +186,45 @@ pub enum Geometry {
     /// does not copy the spheres; each sphere is one grid primitive, in
     /// the set's order.
     Spheres(Arc<SphereSet>),
+    /// A mesh in its own (object) space placed by a transform. Instances
+    /// of one `Arc<Mesh>` share its arrays and, when there are several, one
+    /// grid of its triangles, which rays enter through `to_world`'s
+    /// inverse (Suffern's `Instance`, pbrt's object instances). A mirroring
+    /// transform keeps the mesh's front faces (counter-clockwise winding)
+    /// on the same side of the surface, as glTF asks.
+    Instance {
+        /// The mesh, shared with the other instances of it.
+        mesh: Arc<Mesh>,
+        /// Object to world (invertible, finite); boxed, so that an
+        /// `Object` stays small.
+        to_world: Box<crate::transform::Affine>,
+    },
+}
+
+impl Geometry {
+    /// The box around the geometry in world space ([`Aabb::EMPTY`] for a
+    /// plane, which is unbounded, and for an empty mesh or set).
+    #[must_use]
+    pub fn bounds(&self) -> Aabb {
+        match self {
+            Geometry::Sphere { center, radius } => Aabb::new(
+                *center - Vec3::splat(*radius),
+                *center + Vec3::splat(*radius),
+            ),
+            Geometry::Cuboid { min, max } => Aabb::new(*min, *max),
+            Geometry::Plane { .. } => Aabb::EMPTY,
+            Geometry::Mesh(m) => m.bounds(),
+            Geometry::Spheres(set) => set.bounds(),
+            Geometry::Instance { mesh, to_world } => {
+                let b = mesh.bounds();
+                if b.is_empty() {
+                    b
+                } else {
+                    to_world.bounds(&b)
+                }
+            }
+        }
+    }
 }
 
 /// The spheres of a [`Geometry::Spheres`] object: 16 bytes per sphere
@@ -218,7 +257,7 @@ impl SphereSet {
 pub struct Mesh {
     /// A name for reports (file and group, or node and primitive).
     pub name: String,
-    /// Vertex positions, world space.
+    /// Vertex positions: world space, or object space for an instance.
     pub positions: Vec<Vec3>,
     /// Per-vertex normals for smooth shading: empty, or one per position.
     pub normals: Vec<Vec3>,
@@ -233,6 +272,19 @@ pub struct Mesh {
     pub colors: Vec<Rgb>,
     /// Triangles as indices into `positions` (counter-clockwise = front).
     pub triangles: Vec<[u32; 3]>,
+}
+
+impl Mesh {
+    /// The box around the vertices that triangles use ([`Aabb::EMPTY`]
+    /// without triangles; indices out of range are skipped).
+    #[must_use]
+    pub fn bounds(&self) -> Aabb {
+        self.triangles
+            .iter()
+            .flatten()
+            .filter_map(|&k| self.positions.get(k as usize))
+            .fold(Aabb::EMPTY, |b, &p| b.grow(p))
+    }
 }
 
 /// Surface materials (Suffern's ray-cast and Whitted chapters).

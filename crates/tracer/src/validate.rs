@@ -4,9 +4,10 @@
 use crate::camera::CameraModel;
 use crate::error::SceneError;
 use crate::float::to_f64;
+use crate::instancing::SharedMeshes;
 use crate::lights::AreaLight;
 use crate::prepare::MAX_PIXELS;
-use crate::scene::{Geometry, Light, Material, Rgb, Scene, SphereSet};
+use crate::scene::{Geometry, Light, Material, Mesh, Rgb, Scene, SphereSet};
 use crate::shapes::Sphere;
 
 pub(crate) fn color_ok(c: Rgb) -> bool {
@@ -240,7 +241,7 @@ fn check_light(i: usize, l: &Light) -> Result<(), SceneError> {
 
 /// Checks everything; returns the number of grid primitives and whether
 /// they are all spheres.
-pub(crate) fn validate(scene: &Scene) -> Result<(usize, bool), SceneError> {
+pub(crate) fn validate(scene: &Scene, shared: &SharedMeshes) -> Result<(usize, bool), SceneError> {
     let s = &scene.settings;
     if s.width == 0 || s.height == 0 {
         return Err(SceneError::EmptyImage {
@@ -340,55 +341,30 @@ pub(crate) fn validate(scene: &Scene) -> Result<(usize, bool), SceneError> {
                 }
             }
             Geometry::Mesh(m) => {
-                let nv = m.positions.len();
-                let name = || m.name.clone();
-                let counts = [
-                    ("normals", m.normals.len()),
-                    ("uvs", m.uvs.len()),
-                    ("colors", m.colors.len()),
-                ];
-                for (attribute, n) in counts {
-                    if n != 0 && n != nv {
-                        return Err(SceneError::MeshAttributeCount {
-                            object: i,
-                            mesh: name(),
-                            attribute,
-                            count: n,
-                            vertices: nv,
-                        });
-                    }
-                }
-                for (attribute, list) in [("position", &m.positions), ("normal", &m.normals)] {
-                    if let Some(v) = list.iter().position(|p| !p.is_finite()) {
-                        return Err(SceneError::MeshNotFinite {
-                            object: i,
-                            mesh: name(),
-                            attribute,
-                            vertex: v,
-                        });
-                    }
-                }
-                if let Some(v) = m.colors.iter().position(|c| !color_ok(*c)) {
-                    return Err(SceneError::MeshNotFinite {
-                        object: i,
-                        mesh: name(),
-                        attribute: "colour (or a negative one)",
-                        vertex: v,
-                    });
-                }
-                for (t, tri) in m.triangles.iter().enumerate() {
-                    if let Some(&index) = tri.iter().find(|&&k| k as usize >= nv) {
-                        return Err(SceneError::MeshIndexOutOfRange {
-                            object: i,
-                            mesh: name(),
-                            triangle: t,
-                            index,
-                            vertices: nv,
-                        });
-                    }
-                }
+                check_mesh(i, m)?;
                 all_spheres = false;
                 count += m.triangles.len();
+            }
+            Geometry::Instance { mesh, to_world } => {
+                check_mesh(i, mesh)?;
+                if to_world.inverse().is_none() {
+                    return Err(SceneError::BadTransform {
+                        object: i,
+                        reason: "the transform has a non-finite entry or is singular (a zero scale or a flattening matrix): it must be invertible",
+                    });
+                }
+                if !to_world.keeps_finite(&mesh.bounds()) {
+                    return Err(SceneError::BadTransform {
+                        object: i,
+                        reason: "the transformed mesh has non-finite coordinates: use a smaller scale or translation",
+                    });
+                }
+                all_spheres = false;
+                count += if shared.keeps(scene, o) {
+                    1
+                } else {
+                    mesh.triangles.len()
+                };
             }
             Geometry::Spheres(set) => {
                 check_set(i, set)?;
@@ -442,6 +418,59 @@ fn check_set(object: usize, set: &SphereSet) -> Result<(), SceneError> {
             sphere,
             reason: "the colour must be finite and ≥ 0 in every channel",
         });
+    }
+    Ok(())
+}
+
+/// The checks of a mesh's arrays: attribute counts, finite values,
+/// indices in range.
+fn check_mesh(i: usize, m: &Mesh) -> Result<(), SceneError> {
+    let nv = m.positions.len();
+    let name = || m.name.clone();
+    let counts = [
+        ("normals", m.normals.len()),
+        ("uvs", m.uvs.len()),
+        ("colors", m.colors.len()),
+    ];
+    for (attribute, n) in counts {
+        if n != 0 && n != nv {
+            return Err(SceneError::MeshAttributeCount {
+                object: i,
+                mesh: name(),
+                attribute,
+                count: n,
+                vertices: nv,
+            });
+        }
+    }
+    for (attribute, list) in [("position", &m.positions), ("normal", &m.normals)] {
+        if let Some(v) = list.iter().position(|p| !p.is_finite()) {
+            return Err(SceneError::MeshNotFinite {
+                object: i,
+                mesh: name(),
+                attribute,
+                vertex: v,
+            });
+        }
+    }
+    if let Some(v) = m.colors.iter().position(|c| !color_ok(*c)) {
+        return Err(SceneError::MeshNotFinite {
+            object: i,
+            mesh: name(),
+            attribute: "colour (or a negative one)",
+            vertex: v,
+        });
+    }
+    for (t, tri) in m.triangles.iter().enumerate() {
+        if let Some(&index) = tri.iter().find(|&&k| k as usize >= nv) {
+            return Err(SceneError::MeshIndexOutOfRange {
+                object: i,
+                mesh: name(),
+                triangle: t,
+                index,
+                vertices: nv,
+            });
+        }
     }
     Ok(())
 }

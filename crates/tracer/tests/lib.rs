@@ -11,6 +11,7 @@ mod dielectric;
 mod environment;
 mod errors;
 mod glossy;
+mod instancing;
 mod lambert;
 mod leaks;
 mod mirror;

@@ -70,7 +70,7 @@ impl Primitive for Sphere {
         } else {
             return None;
         };
-        Some(PrimHit { t, u: 0.0, v: 0.0 })
+        Some(PrimHit::new(t, 0.0, 0.0))
     }
 
     /// Four spheres at a time: the miss test above in lanes, the same
@@ -202,11 +202,7 @@ impl Primitive for Triangle {
         if !(t >= t_min && t <= t_max) {
             return None;
         }
-        Some(PrimHit {
-            t,
-            u: v * inv,
-            v: w * inv,
-        })
+        Some(PrimHit::new(t, v * inv, w * inv))
     }
 
     /// Four triangles at a time: the edge functions of `closest_hit` in

@@ -91,11 +91,8 @@ impl Primitive for Cuboid {
 
     #[inline]
     fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
-        self.intersect(ray, t_min, t_max).map(|(t, face)| PrimHit {
-            t,
-            u: Real::from(face),
-            v: 0.0,
-        })
+        self.intersect(ray, t_min, t_max)
+            .map(|(t, face)| PrimHit::new(t, Real::from(face), 0.0))
     }
 
     /// Box–box overlap: exact (no arithmetic).

@@ -9,6 +9,7 @@
 //! [`Surface`] trait.
 
 mod cuboid;
+mod instance;
 mod overlap;
 mod plane;
 mod sphere;
@@ -16,6 +17,7 @@ mod triangle;
 mod triangle_mt;
 
 pub use cuboid::Cuboid;
+pub use instance::{Instance, MeshGrid};
 pub use plane::Plane;
 pub use sphere::Sphere;
 pub use triangle::Triangle;
@@ -40,13 +42,26 @@ pub(crate) trait Surface: Primitive {
     /// The surface point of a hit this primitive reported (`t`, and its own
     /// `u`, `v` from [`Primitive::closest_hit`]).
     fn surface(&self, ray: &Ray, t: Real, u: Real, v: Real) -> SurfacePoint;
+
+    /// The surface point of a hit on part `part` of the primitive (the
+    /// triangle of an instance; simple primitives have one part).
+    #[inline]
+    fn surface_of(&self, ray: &Ray, t: Real, u: Real, v: Real, _part: u32) -> SurfacePoint {
+        self.surface(ray, t, u, v)
+    }
+
+    /// The instance this primitive is, if it is one.
+    #[inline]
+    fn instance(&self) -> Option<&Instance> {
+        None
+    }
 }
 
 /// The bounded shapes in one enum, for scenes that mix them (static
 /// dispatch, pbrt's `TaggedPointer` idea without the pointer). A scene of
 /// spheres only is rendered with a grid of [`Sphere`] instead, which is more
 /// compact.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub enum Shape {
     /// A sphere.
     Sphere(Sphere),
@@ -57,6 +72,8 @@ pub enum Shape {
     /// A triangle tested with Möller–Trumbore instead of the watertight
     /// test (`TriangleTest::MollerTrumbore`).
     MtTriangle(MtTriangle),
+    /// A placement of a shared mesh (its grid, entered through a transform).
+    Instance(std::sync::Arc<Instance>),
 }
 
 impl Primitive for Shape {
@@ -67,6 +84,7 @@ impl Primitive for Shape {
             Shape::Cuboid(c) => c.bounds(),
             Shape::Triangle(t) => t.bounds(),
             Shape::MtTriangle(t) => t.bounds(),
+            Shape::Instance(i) => i.bounds(),
         }
     }
 
@@ -77,6 +95,7 @@ impl Primitive for Shape {
             Shape::Cuboid(c) => c.closest_hit(ray, t_min, t_max),
             Shape::Triangle(t) => t.closest_hit(ray, t_min, t_max),
             Shape::MtTriangle(t) => t.closest_hit(ray, t_min, t_max),
+            Shape::Instance(i) => i.closest_hit(ray, t_min, t_max),
         }
     }
 
@@ -87,6 +106,7 @@ impl Primitive for Shape {
             Shape::Cuboid(c) => c.any_hit(ray, t_min, t_max),
             Shape::Triangle(t) => t.any_hit(ray, t_min, t_max),
             Shape::MtTriangle(t) => t.any_hit(ray, t_min, t_max),
+            Shape::Instance(i) => i.any_hit(ray, t_min, t_max),
         }
     }
 
@@ -97,6 +117,7 @@ impl Primitive for Shape {
             Shape::Cuboid(c) => c.overlaps_box(cell),
             Shape::Triangle(t) => t.overlaps_box(cell),
             Shape::MtTriangle(t) => t.overlaps_box(cell),
+            Shape::Instance(i) => i.overlaps_box(cell),
         }
     }
 }
@@ -109,6 +130,23 @@ impl Surface for Shape {
             Shape::Cuboid(c) => c.surface(ray, t, u, v),
             Shape::Triangle(tr) => tr.surface(ray, t, u, v),
             Shape::MtTriangle(tr) => tr.surface(ray, t, u, v),
+            Shape::Instance(i) => i.surface_part(ray, t, u, v, 0),
+        }
+    }
+
+    #[inline]
+    fn surface_of(&self, ray: &Ray, t: Real, u: Real, v: Real, part: u32) -> SurfacePoint {
+        match self {
+            Shape::Instance(i) => i.surface_part(ray, t, u, v, part),
+            _ => self.surface(ray, t, u, v),
+        }
+    }
+
+    #[inline]
+    fn instance(&self) -> Option<&Instance> {
+        match self {
+            Shape::Instance(i) => Some(i),
+            _ => None,
         }
     }
 }
@@ -144,9 +182,10 @@ mod tests {
     #[test]
     fn shape_stays_compact() {
         // The enum is as large as its largest member (the triangle's three
-        // vertices and one padding coordinate) plus a tag; keep it that way.
+        // vertices and one padding coordinate) plus a tag, padded to the
+        // alignment of an instance's pointer; keep it that way.
         let real = std::mem::size_of::<Real>();
         assert_eq!(std::mem::size_of::<Sphere>(), 4 * real);
-        assert!(std::mem::size_of::<Shape>() <= 10 * real + real.max(4));
+        assert!(std::mem::size_of::<Shape>() <= 10 * real + real.max(8));
     }
 }

@@ -109,7 +109,7 @@ impl Primitive for Sphere {
     #[inline]
     fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
         self.intersect(ray, t_min, t_max)
-            .map(|t| PrimHit { t, u: 0.0, v: 0.0 })
+            .map(|t| PrimHit::new(t, 0.0, 0.0))
     }
 
     #[inline]

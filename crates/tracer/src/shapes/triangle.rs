@@ -152,7 +152,7 @@ impl Triangle {
         if self.is_degenerate() {
             return None;
         }
-        Some(PrimHit { t, u, v })
+        Some(PrimHit::new(t, u, v))
     }
 }
 

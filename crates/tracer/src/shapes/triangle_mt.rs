@@ -66,7 +66,7 @@ impl MtTriangle {
         if !(t > 0.0 && t >= t_min && t <= t_max) {
             return None;
         }
-        Some(PrimHit { t, u, v })
+        Some(PrimHit::new(t, u, v))
     }
 }
 

@@ -1,0 +1,111 @@
+//! Instancing from files: a mesh file named by several `Mesh` objects of a
+//! scene, and a glTF mesh used by several nodes, are stored once and placed
+//! by transforms.
+
+use crate::parse_scene;
+use gridrt_bbox::{Aabb, Vec3};
+use gridrt_tracer::{Geometry, Mesh, Renderer};
+use std::sync::Arc;
+
+fn instances(s: &gridrt_tracer::Scene) -> Vec<(&Arc<Mesh>, gridrt_tracer::Affine)> {
+    s.objects
+        .iter()
+        .filter_map(|o| match &o.geometry {
+            Geometry::Instance { mesh, to_world } => Some((mesh, **to_world)),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn a_file_named_by_many_objects_is_loaded_once_and_shared() {
+    let mut objects = String::new();
+    for k in 0..40 {
+        objects += &format!(
+            "Mesh(file: \"meshes/cube/cube.obj\", transform: [Scale(0.5), Rotate(axis: (0, 1, 0), degrees: {}), Translate(({}, 0, {}))], material: \"m\"),\n",
+            9 * k,
+            k % 8,
+            k / 8
+        );
+    }
+    let text = format!(
+        r#"Scene(
+            materials: {{ "m": Matte(color: (0.8, 0.8, 0.8)) }},
+            lights: [Directional(direction: (1, 2, 3))],
+            objects: [
+                {objects}
+                Mesh(file: "meshes/teapot/teapot.obj"),
+            ],
+        )"#
+    );
+    let s = parse_scene(&text, &crate::fixtures().join("inline.ron")).unwrap();
+    let placed = instances(&s.scene);
+    // The cube file has six meshes (one per face group): 40 × 6 placements
+    // of six shared meshes.
+    assert_eq!(placed.len(), 240);
+    let firsts: Vec<_> = placed[..6].iter().map(|(m, _)| Arc::as_ptr(m)).collect();
+    for (k, (m, _)) in placed.iter().enumerate() {
+        assert_eq!(Arc::as_ptr(m), firsts[k % 6], "placement {k}");
+    }
+    // The teapot, named once, is baked into world space as before.
+    assert!(s
+        .scene
+        .objects
+        .iter()
+        .any(|o| matches!(&o.geometry, Geometry::Mesh(m) if m.triangles.len() > 1000)));
+    // Placements land where the transforms put them: object 39 at (7, 0, 4).
+    let b = placed[234..]
+        .iter()
+        .map(|(m, a)| a.bounds(&m.bounds()))
+        .fold(Aabb::EMPTY, Aabb::union);
+    let c = (b.min + b.max) * 0.5;
+    assert!(
+        (c - Vec3::new(7.5, 0.5, 4.5)).abs().max_element() < 0.3,
+        "{c}"
+    );
+    let r = Renderer::new(&s.scene, &Default::default()).unwrap();
+    assert_eq!(r.instancing().shared_meshes, 6);
+    assert_eq!(r.instancing().instances, 240);
+}
+
+#[test]
+fn different_normals_make_different_shared_meshes() {
+    let text = r#"Scene(
+        objects: [
+            Mesh(file: "meshes/teapot/teapot.obj", normals: Flat),
+            Mesh(file: "meshes/teapot/teapot.obj", normals: Flat, transform: [Translate((5, 0, 0))]),
+            Mesh(file: "meshes/teapot/teapot.obj", normals: Smooth(60)),
+            Mesh(file: "meshes/teapot/teapot.obj", normals: Smooth(60), transform: [Translate((-5, 0, 0))]),
+        ],
+    )"#;
+    let s = parse_scene(text, &crate::fixtures().join("inline.ron")).unwrap();
+    let placed = instances(&s.scene);
+    assert_eq!(placed.len(), 4);
+    assert!(Arc::ptr_eq(placed[0].0, placed[1].0));
+    assert!(Arc::ptr_eq(placed[2].0, placed[3].0));
+    assert!(placed[0].0.normals.is_empty());
+    assert_eq!(placed[2].0.normals.len(), placed[2].0.positions.len());
+}
+
+#[test]
+fn a_shared_file_under_a_singular_or_huge_transform_is_refused() {
+    for (t, want) in [
+        (
+            "Matrix(((1, 0, 0, 0), (0, 1, 0, 0), (1, 1, 0, 0), (0, 0, 0, 1)))",
+            "singular",
+        ),
+        ("Scale(1e38), Translate((3e38, 0, 0))", "non-finite"),
+    ] {
+        let text = format!(
+            r#"Scene(objects: [
+                Mesh(file: "meshes/cube/cube.obj"),
+                Mesh(file: "meshes/cube/cube.obj", transform: [{t}]),
+            ])"#
+        );
+        let e = parse_scene(&text, &crate::fixtures().join("inline.ron"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(want) && e.contains("cube.obj"), "{e}");
+        assert!(e.contains("objects[1]"), "{e}");
+    }
+}
