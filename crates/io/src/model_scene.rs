@@ -62,18 +62,30 @@ pub fn scene_from_model(model: Model) -> LoadedScene {
     let mut materials: Vec<Material> = model.materials.iter().map(|m| m.material.clone()).collect();
     let default_id = materials.len() as MaterialId;
     let mut need_default = false;
+    let mut material_of = |k: Option<usize>| {
+        k.map_or_else(
+            || {
+                need_default = true;
+                default_id
+            },
+            |k| k as MaterialId,
+        )
+    };
+    // Shared meshes are smoothed once each, then placed.
+    let smooth = model::Normals::Smooth(model::Crease(model::DEFAULT_CREASE_DEG));
+    let mut once = std::collections::HashMap::new();
     let objects: Vec<Object> = model
         .meshes
         .iter()
         .map(|mm| Object {
-            geometry: Geometry::Mesh(Box::new(smoothed(mm))),
-            material: mm.material.map_or_else(
-                || {
-                    need_default = true;
-                    default_id
+            geometry: match mm.placement {
+                Some(p) => Geometry::Instance {
+                    mesh: model::applied_once(&mut once, &mm.mesh, smooth),
+                    to_world: Box::new(model::affine(&p)),
                 },
-                |k| k as MaterialId,
-            ),
+                None => Geometry::Mesh(Box::new(smoothed(mm))),
+            },
+            material: material_of(mm.material),
         })
         .collect();
     if need_default {

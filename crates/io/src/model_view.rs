@@ -187,16 +187,17 @@ mod tests {
         Model {
             path: "room.obj".into(),
             meshes: vec![ModelMesh {
-                mesh: Mesh {
+                mesh: std::sync::Arc::new(Mesh {
                     name: "room".into(),
                     positions,
                     normals: vec![],
                     uvs: vec![],
                     colors: vec![],
                     triangles,
-                },
+                }),
                 material: None,
                 mirrored: false,
+                placement: None,
             }],
             materials: vec![],
             cameras: vec![],
@@ -214,7 +215,7 @@ mod tests {
         assert!(cam.eye.z > 0.8 && cam.eye.z < 1.0, "{}", cam.eye);
         // Turned a quarter round, the open side faces +x.
         let mut m = room(true);
-        for p in &mut m.meshes[0].mesh.positions {
+        for p in &mut std::sync::Arc::make_mut(&mut m.meshes[0].mesh).positions {
             *p = Vec3::new(p.z, p.y, -p.x);
         }
         assert_eq!(room_opening(&m), Some(DVec3::X));
@@ -224,12 +225,14 @@ mod tests {
     fn half_a_room_and_a_closed_object_are_not_rooms() {
         // A back wall, floor and ceiling do not surround the centre.
         let mut m = room(true);
-        m.meshes[0].mesh.triangles.truncate(6);
+        std::sync::Arc::make_mut(&mut m.meshes[0].mesh)
+            .triangles
+            .truncate(6);
         assert_eq!(room_opening(&m), None);
         // The closed box turned inside out: its faces look away from the
         // centre, as an object's do.
         let mut m = room(false);
-        for t in &mut m.meshes[0].mesh.triangles {
+        for t in &mut std::sync::Arc::make_mut(&mut m.meshes[0].mesh).triangles {
             t.swap(1, 2);
         }
         assert_eq!(room_opening(&m), None);

@@ -5,12 +5,12 @@
 
 use super::Builder;
 use crate::error::{Error, Result};
-use crate::model::{self, texture_load, Model, NamedMaterial};
+use crate::model::{self, affine, texture_load, Model, NamedMaterial};
 use crate::scene_transform::transform_matrix;
 use crate::schema::{self, TransformDesc};
 use glam::DMat4;
-use gridrt_bbox::{Real, Vec3};
-use gridrt_tracer::{Affine, Geometry, MaterialId, Mesh, Object};
+use gridrt_tracer::{Geometry, MaterialId, Mesh, Object};
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -18,7 +18,8 @@ use std::sync::Arc;
 /// oriented and with the requested normals, shared by every placement.
 #[derive(Clone)]
 pub(super) struct SharedFile {
-    meshes: Vec<(Arc<Mesh>, Option<usize>)>,
+    /// Each mesh, its file material and its place in the file.
+    meshes: Vec<(Arc<Mesh>, Option<usize>, DMat4)>,
     materials: Vec<NamedMaterial>,
     /// Where the file's textures start in the scene's texture list.
     texture_offset: u32,
@@ -67,16 +68,24 @@ impl Builder<'_> {
             let shared = match self.shared.get(&(real.clone(), key.clone())) {
                 Some(s) => s.clone(),
                 None => {
-                    let n = self.model(&shown, &real, &needle, what)?.triangle_count();
+                    let n = self.model(&shown, &real, &needle, what)?.primitive_count();
                     self.count_primitives(n as u64, what)?;
                     let model = &self.models[&real];
+                    let mut cache = HashMap::new();
                     let meshes = model
                         .meshes
                         .iter()
-                        .map(|mm| {
-                            let mut mesh = mm.oriented();
-                            d.normals.apply(&mut mesh);
-                            (Arc::new(mesh), mm.material)
+                        .map(|mm| match mm.placement {
+                            Some(p) => (
+                                model::applied_once(&mut cache, &mm.mesh, d.normals),
+                                mm.material,
+                                p,
+                            ),
+                            None => {
+                                let mut mesh = mm.oriented();
+                                d.normals.apply(&mut mesh);
+                                (Arc::new(mesh), mm.material, DMat4::IDENTITY)
+                            }
                         })
                         .collect();
                     let (materials, textures) = (model.materials.clone(), model.textures.clone());
@@ -92,9 +101,9 @@ impl Builder<'_> {
             };
             self.count_primitives(shared.meshes.len() as u64, what)?;
             model::Xform::new(&m).map_err(|e| transform_error(self, e))?;
-            let to_world = affine(&m);
             let mut fm = self.file_materials(what, d, &shared.materials, shared.texture_offset)?;
-            for (k, (mesh, material)) in shared.meshes.iter().enumerate() {
+            for (k, (mesh, material, local)) in shared.meshes.iter().enumerate() {
+                let to_world = affine(&(m * *local));
                 if !to_world.keeps_finite(&mesh.bounds()) {
                     return Err(transform_error(
                         self,
@@ -116,18 +125,28 @@ impl Builder<'_> {
             return Ok(());
         }
         let mut model = self.model(&shown, &real, &needle, what)?.clone();
-        self.count_primitives(model.triangle_count() as u64, what)?;
+        self.count_primitives(model.primitive_count() as u64, what)?;
         if !d.transform.is_empty() {
             model.transform(&m).map_err(|e| transform_error(self, e))?;
         }
         let offset = texture_load::append(&mut self.textures, &model.textures);
         let mut fm = self.file_materials(what, d, &model.materials, offset)?;
+        let mut cache = HashMap::new();
         for mm in &model.meshes {
             let id = self.model_material(what, d, &mut fm, &model.materials, mm.material)?;
-            let mut mesh = mm.oriented();
-            d.normals.apply(&mut mesh);
+            let geometry = match mm.placement {
+                Some(p) => Geometry::Instance {
+                    mesh: model::applied_once(&mut cache, &mm.mesh, d.normals),
+                    to_world: Box::new(affine(&p)),
+                },
+                None => {
+                    let mut mesh = mm.oriented();
+                    d.normals.apply(&mut mesh);
+                    Geometry::Mesh(Box::new(mesh))
+                }
+            };
             self.objects.push(Object {
-                geometry: Geometry::Mesh(Box::new(mesh)),
+                geometry,
                 material: id,
             });
         }
@@ -253,13 +272,4 @@ struct FileMaterials {
     /// The file's name, prefixed to the names of its materials.
     stem: String,
     texture_offset: u32,
-}
-
-/// The object-to-world map of a transform matrix.
-fn affine(m: &DMat4) -> Affine {
-    let r = |v: glam::DVec4| Vec3::new(v.x as Real, v.y as Real, v.z as Real);
-    Affine {
-        cols: [r(m.x_axis), r(m.y_axis), r(m.z_axis)],
-        translation: r(m.w_axis),
-    }
 }

@@ -109,3 +109,85 @@ fn a_shared_file_under_a_singular_or_huge_transform_is_refused() {
         assert!(e.contains("objects[1]"), "{e}");
     }
 }
+
+/// A glTF file whose one mesh (a triangle) hangs on `nodes` nodes, side by
+/// side along x.
+fn gltf_with_nodes(dir: &std::path::Path, nodes: usize) -> std::path::PathBuf {
+    let bin: Vec<u8> = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    std::fs::write(dir.join("t.bin"), &bin).unwrap();
+    let list: Vec<String> = (0..nodes).map(|k| k.to_string()).collect();
+    let node_json: Vec<String> = (0..nodes)
+        .map(|k| format!(r#"{{"mesh": 0, "translation": [{}, 0, 0]}}"#, 2 * k))
+        .collect();
+    let json = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0,
+        "scenes": [{{"nodes": [{}]}}], "nodes": [{}],
+        "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}}}]}}],
+        "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [0, 0, 0], "max": [1, 1, 0]}}],
+        "bufferViews": [{{"buffer": 0, "byteLength": 36}}],
+        "buffers": [{{"byteLength": 36, "uri": "t.bin"}}]}}"#,
+        list.join(","),
+        node_json.join(",")
+    );
+    let path = dir.join("t.gltf");
+    std::fs::write(&path, json).unwrap();
+    path
+}
+
+#[test]
+fn a_gltf_mesh_on_2000_nodes_is_stored_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = gridrt_io::load_model(&gltf_with_nodes(dir.path(), 2000)).unwrap();
+    assert_eq!(m.meshes.len(), 2000);
+    assert!(m
+        .meshes
+        .iter()
+        .all(|i| i.placement.is_some() && Arc::ptr_eq(&i.mesh, &m.meshes[0].mesh)));
+    assert_eq!(m.triangle_count(), 2000);
+    assert_eq!(m.primitive_count(), 1 + 2000);
+    let b = m.bounds();
+    assert!(
+        (b.max.x - 3999.0).abs() < 1e-3 && b.min.x.abs() < 1e-6,
+        "{b:?}"
+    );
+    let s = gridrt_io::scene_from_model(m);
+    let r = Renderer::new(&s.scene, &Default::default()).unwrap();
+    assert_eq!(r.instancing().shared_meshes, 1);
+    assert_eq!(r.instancing().instances, 2000);
+}
+
+#[test]
+fn a_gltf_mesh_on_one_node_is_baked() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = gridrt_io::load_model(&gltf_with_nodes(dir.path(), 1)).unwrap();
+    assert_eq!(m.meshes.len(), 1);
+    assert!(m.meshes[0].placement.is_none());
+}
+
+#[test]
+fn a_scene_places_a_files_instances_under_its_transform() {
+    let dir = tempfile::tempdir().unwrap();
+    gltf_with_nodes(dir.path(), 3);
+    std::fs::write(
+        dir.path().join("s.ron"),
+        r#"Scene(objects: [Mesh(file: "t.gltf", transform: [Scale(2), Translate((0, 10, 0))])])"#,
+    )
+    .unwrap();
+    let s = gridrt_io::load_scene(&dir.path().join("s.ron")).unwrap();
+    let placed = instances(&s.scene);
+    assert_eq!(placed.len(), 3);
+    // The third node's triangle: x from 4 to 5, scaled by 2, moved up 10.
+    let b = placed[2].1.bounds(&placed[2].0.bounds());
+    assert!(
+        (b.min - Vec3::new(8.0, 10.0, 0.0)).abs().max_element() < 1e-3,
+        "{b:?}"
+    );
+    assert!(
+        (b.max - Vec3::new(10.0, 12.0, 0.0)).abs().max_element() < 1e-3,
+        "{b:?}"
+    );
+}

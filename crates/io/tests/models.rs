@@ -61,6 +61,12 @@ fn gltf_hierarchy_composes_node_transforms() {
     let m = load_model(&fixture("meshes/generated/hierarchy.gltf")).unwrap();
     assert_eq!(m.triangle_count(), 28);
     assert_eq!(m.meshes.len(), 5);
+    // The cube hangs on two nodes: stored once, placed twice.
+    let placed: Vec<_> = m.meshes[..2]
+        .iter()
+        .map(|mm| mm.placement.unwrap())
+        .collect();
+    assert!(std::sync::Arc::ptr_eq(&m.meshes[0].mesh, &m.meshes[1].mesh));
     // cube_child: arm · T(0,1,0) · S(0.5), arm = T(2,0,0) · Rz(90°).
     assert_box(
         bounds_of(&m, 0..12),
@@ -69,8 +75,9 @@ fn gltf_hierarchy_composes_node_transforms() {
     );
     // mirrored: arm · T(0,-1,0) · S(-1,1,1).
     assert_box(bounds_of(&m, 12..24), [2.5, -0.5, -0.5], [3.5, 0.5, 0.5]);
-    assert!(!m.meshes[0].mirrored);
-    assert!(m.meshes[1].mirrored);
+    assert!(placed[0].determinant() > 0.0);
+    assert!(placed[1].determinant() < 0.0);
+    assert!(m.meshes[2..].iter().all(|mm| mm.placement.is_none()));
     // The non-indexed triangle, then the strip (2 triangles), then glass.
     let tris: Vec<[Vec3; 3]> = m.triangles().collect();
     assert!(close(tris[24][0], Vec3::new(-2.0, 0.0, 0.0)));
@@ -93,30 +100,33 @@ fn gltf_hierarchy_composes_node_transforms() {
 #[test]
 fn gltf_normals_follow_the_inverse_transpose_and_faces_stay_outward() {
     let m = load_model(&fixture("meshes/generated/hierarchy.gltf")).unwrap();
-    for (i, mm) in m.meshes.iter().take(2).enumerate() {
-        let mesh = mm.oriented();
-        assert_eq!(mesh.normals.len(), mesh.positions.len());
-        for t in &mesh.triangles {
-            let p: Vec<Vec3> = t.iter().map(|&k| mesh.positions[k as usize]).collect();
-            let geo = (p[1] - p[0]).cross(p[2] - p[0]);
-            let n = mesh.normals[t[0] as usize];
-            assert!(geo.dot(n) > 0.0, "mesh {i}: winding against normal {n}");
-            // Outward: the normal points away from the cube's centre.
-            let c = (mesh
-                .positions
-                .iter()
-                .copied()
-                .fold(Vec3::ZERO, |a, b| a + b))
-                / mesh.positions.len() as Real;
-            assert!(
-                (p[0] - c).dot(n) > 0.0,
-                "mesh {i}: normal {n} points inward"
-            );
-        }
+    // The shared cube, in its own space: normals agree with the winding
+    // and point outward.
+    let mesh = &m.meshes[0].mesh;
+    assert_eq!(mesh.normals.len(), mesh.positions.len());
+    let c = mesh
+        .positions
+        .iter()
+        .copied()
+        .fold(Vec3::ZERO, |a, b| a + b)
+        / mesh.positions.len() as Real;
+    for t in &mesh.triangles {
+        let p: Vec<Vec3> = t.iter().map(|&k| mesh.positions[k as usize]).collect();
+        let geo = (p[1] - p[0]).cross(p[2] - p[0]);
+        let n = mesh.normals[t[0] as usize];
+        assert!(geo.dot(n) > 0.0, "winding against normal {n}");
+        assert!((p[0] - c).dot(n) > 0.0, "normal {n} points inward");
     }
-    // The +x face of the cube child points +y after the arm's Rz(90°).
-    let child = &m.meshes[0].mesh;
-    assert!(child.normals.iter().any(|n| close(*n, Vec3::Y)));
+    // Placed, normals follow the inverse transpose: the +x face of the
+    // cube child points +y after the arm's Rz(90°); the mirror turns the
+    // other copy's to -x, which the arm turns to -y (outward still: the
+    // renderer keeps the front side by the same map).
+    for (mm, want) in [(&m.meshes[0], Vec3::Y), (&m.meshes[1], -Vec3::Y)] {
+        let normal = mm.placement.unwrap().inverse().transpose();
+        let n = normal.transform_vector3(glam::DVec3::X).normalize();
+        let n = Vec3::new(n.x as Real, n.y as Real, n.z as Real);
+        assert!(close(n, want), "{n} vs {want}");
+    }
 }
 
 #[test]

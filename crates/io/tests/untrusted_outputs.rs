@@ -95,7 +95,8 @@ fn node_graphs_are_counted_before_they_are_walked() {
         &["dag.gltf: the node graph expands to", "--max-nodes"],
     );
     // 2000 instances of one mesh: within the node limit, over a primitive
-    // limit of 1000.
+    // limit of 1000 (its one triangle stored once, plus one primitive per
+    // placement).
     let nodes: Vec<&str> = vec!["{\"mesh\": 0}"; 2000];
     let roots: Vec<String> = (0..2000).map(|i| i.to_string()).collect();
     let f = dir.join("many.gltf");
@@ -113,7 +114,7 @@ fn node_graphs_are_counted_before_they_are_walked() {
         &dir,
         &dir,
         &[
-            "many.gltf: the scene expands to at least 2000 primitives",
+            "many.gltf: the scene expands to at least 2001 primitives",
             "--max-primitives",
         ],
     );

@@ -26,6 +26,7 @@ use std::collections::HashMap;
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4};
 use std::path::Path;
 use std::rc::Rc;
+use std::sync::Arc;
 
 /// Deepest node hierarchy accepted (deeper means a cycle or a broken file).
 const MAX_DEPTH: usize = 256;
@@ -67,6 +68,8 @@ pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) ->
             .file_name()
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
         meshes: Vec::new(),
+        mesh_uses: Vec::new(),
+        shared: HashMap::new(),
         cameras: Vec::new(),
         lights: Vec::new(),
         warnings,
@@ -88,7 +91,8 @@ pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) ->
         }
     };
     let root_ids: Vec<usize> = roots.iter().map(gltf::Node::index).collect();
-    gltf_graph::check_expansion(path, doc.as_json(), &root_ids, &sandbox.limits)?;
+    loader.mesh_uses =
+        gltf_graph::check_expansion(path, doc.as_json(), &root_ids, &sandbox.limits)?;
     for root in roots {
         loader.visit(&root, DMat4::IDENTITY)?;
     }
@@ -302,6 +306,11 @@ struct Loader<'a> {
     buffers: &'a [Vec<u8>],
     file_name: String,
     meshes: Vec<ModelMesh>,
+    /// How many times each mesh is placed (paths to nodes using it).
+    mesh_uses: Vec<u64>,
+    /// The primitives of shared meshes, in the mesh's own space, by mesh
+    /// and primitive index (`None`: skipped, with a warning given once).
+    shared: HashMap<(usize, usize), Option<Arc<Mesh>>>,
     cameras: Vec<ModelCamera>,
     lights: Vec<Light>,
     warnings: Vec<String>,
@@ -401,7 +410,11 @@ impl Loader<'_> {
                         .map_or_else(String::new, |n| format!(" \"{n}\"")),
                     prim.index()
                 );
-                self.primitive(&prim, &world, &place, &mesh, node)?;
+                if self.mesh_uses.get(mesh.index()).is_some_and(|&u| u >= 2) {
+                    self.shared_primitive(&prim, &world, &place, &mesh, node)?;
+                } else {
+                    self.primitive(&prim, &world, &place, &mesh, node)?;
+                }
             }
         }
         if let Some(cam) = node.camera().and_then(|c| camera(&c, &world)) {
@@ -415,6 +428,7 @@ impl Loader<'_> {
         Ok(())
     }
 
+    /// A primitive of a mesh placed once: baked into world space.
     fn primitive(
         &mut self,
         prim: &gltf::Primitive,
@@ -423,6 +437,66 @@ impl Loader<'_> {
         mesh: &gltf::Mesh,
         node: &gltf::Node,
     ) -> Result<()> {
+        let Some(mut tmesh) = self.read_primitive(prim, place, mesh, node)? else {
+            return Ok(());
+        };
+        let err = |msg: String| Error::gltf(self.path, place, msg);
+        let xf = Xform::new(world).map_err(|e| err(format!("node transform: {e}")))?;
+        xf.apply(&mut tmesh).map_err(err)?;
+        check_normals(&mut tmesh, &mut self.warnings);
+        self.meshes.push(ModelMesh {
+            mesh: Arc::new(tmesh),
+            material: prim.material().index(),
+            mirrored: xf.mirrors,
+            placement: None,
+        });
+        Ok(())
+    }
+
+    /// A primitive of a mesh placed by several nodes: read once in the
+    /// mesh's own space, shared, and placed by the node's transform.
+    fn shared_primitive(
+        &mut self,
+        prim: &gltf::Primitive,
+        world: &DMat4,
+        place: &str,
+        mesh: &gltf::Mesh,
+        node: &gltf::Node,
+    ) -> Result<()> {
+        Xform::new(world)
+            .map_err(|e| Error::gltf(self.path, place, format!("node transform: {e}")))?;
+        let key = (mesh.index(), prim.index());
+        let shared = match self.shared.get(&key) {
+            Some(s) => s.clone(),
+            None => {
+                let read = self.read_primitive(prim, place, mesh, node)?.map(|mut m| {
+                    check_normals(&mut m, &mut self.warnings);
+                    Arc::new(m)
+                });
+                self.shared.insert(key, read.clone());
+                read
+            }
+        };
+        if let Some(m) = shared {
+            self.meshes.push(ModelMesh {
+                mesh: m,
+                material: prim.material().index(),
+                mirrored: false,
+                placement: Some(*world),
+            });
+        }
+        Ok(())
+    }
+
+    /// A triangle primitive's mesh in the mesh's own space; `None` (with a
+    /// warning) for a primitive that is not made of triangles or has none.
+    fn read_primitive(
+        &mut self,
+        prim: &gltf::Primitive,
+        place: &str,
+        mesh: &gltf::Mesh,
+        node: &gltf::Node,
+    ) -> Result<Option<Mesh>> {
         let err = |msg: String| Error::gltf(self.path, place, msg);
         let mode = prim.mode();
         if !matches!(
@@ -433,7 +507,7 @@ impl Loader<'_> {
                 "{}: {place}: skipped a {mode:?} primitive (only triangles are rendered)",
                 self.path.display()
             ));
-            return Ok(());
+            return Ok(None);
         }
         let pos_acc = prim
             .get(&gltf::Semantic::Positions)
@@ -474,7 +548,7 @@ impl Loader<'_> {
                 "{}: {place}: no triangles (too few indices), skipped",
                 self.path.display()
             ));
-            return Ok(());
+            return Ok(None);
         }
         let normals = match prim.get(&gltf::Semantic::Normals) {
             Some(acc) => match self.vec3(&acc).as_ref() {
@@ -489,7 +563,7 @@ impl Loader<'_> {
             },
             None => Vec::new(),
         };
-        let mut tmesh = Mesh {
+        let tmesh = Mesh {
             name: format!(
                 "{}:{}/{}/{}",
                 self.file_name,
@@ -517,15 +591,7 @@ impl Loader<'_> {
             colors: Vec::new(),
             triangles,
         };
-        let xf = Xform::new(world).map_err(|e| err(format!("node transform: {e}")))?;
-        xf.apply(&mut tmesh).map_err(err)?;
-        check_normals(&mut tmesh, &mut self.warnings);
-        self.meshes.push(ModelMesh {
-            mesh: tmesh,
-            material: prim.material().index(),
-            mirrored: xf.mirrors,
-        });
-        Ok(())
+        Ok(Some(tmesh))
     }
 
     /// Records a `KHR_lights_punctual` light of the node, if any.

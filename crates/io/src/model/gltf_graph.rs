@@ -36,13 +36,6 @@ pub(super) fn check_unchecked(path: &Path, root: &json::Root) -> Result<()> {
     Ok(())
 }
 
-/// Nodes and triangles a subgraph expands to.
-#[derive(Clone, Copy, Default)]
-struct Expansion {
-    nodes: u64,
-    triangles: u64,
-}
-
 /// The triangles one instance of mesh `m` makes (from accessor counts,
 /// before anything is read).
 fn mesh_triangles(root: &json::Root, m: usize) -> u64 {
@@ -74,7 +67,12 @@ fn mesh_triangles(root: &json::Root, m: usize) -> u64 {
 }
 
 /// Checks that the graph under `roots` has no cycle and expands to at most
-/// the limits' nodes and primitives.
+/// the limits' nodes and primitives, and returns how many times each mesh
+/// is placed (once per path from a root to a node that uses it).
+///
+/// A mesh placed more than once is loaded once and shared by its
+/// placements, so it counts its triangles once plus one primitive per
+/// placement; a mesh placed once counts its triangles.
 ///
 /// # Errors
 /// [`Error::Gltf`] for a cycle, [`Error::Limit`] over a budget.
@@ -83,13 +81,14 @@ pub(super) fn check_expansion(
     root: &json::Root,
     roots: &[usize],
     limits: &Limits,
-) -> Result<()> {
+) -> Result<Vec<u64>> {
     const NEW: u8 = 0;
     const OPEN: u8 = 1;
     const DONE: u8 = 2;
     let n = root.nodes.len();
     let mut state = vec![NEW; n];
-    let mut memo = vec![Expansion::default(); n];
+    // Post-order of the nodes reached: children before their parents.
+    let mut order: Vec<usize> = Vec::new();
     // Iterative post-order: (node, next child to visit).
     let mut stack: Vec<(usize, usize)> = Vec::new();
     for &r in roots {
@@ -122,42 +121,50 @@ pub(super) fn check_expansion(
                 }
                 continue;
             }
-            let mut e = Expansion {
-                nodes: 1,
-                triangles: root.nodes[node]
-                    .mesh
-                    .map_or(0, |m| mesh_triangles(root, m.value())),
-            };
-            for c in children {
-                if let Some(x) = memo.get(c.value()) {
-                    e.nodes = e.nodes.saturating_add(x.nodes);
-                    e.triangles = e.triangles.saturating_add(x.triangles);
-                }
-            }
-            memo[node] = e;
+            order.push(node);
             state[node] = DONE;
             stack.pop();
         }
     }
-    let total = roots
+    // Paths from the roots to each node, parents before children.
+    let mut paths = vec![0u64; n];
+    for &r in roots.iter().filter(|&&r| r < n) {
+        paths[r] = paths[r].saturating_add(1);
+    }
+    for &node in order.iter().rev() {
+        for c in root.nodes[node].children.as_deref().unwrap_or(&[]) {
+            if let Some(p) = paths.get(c.value()).copied() {
+                paths[c.value()] = p.saturating_add(paths[node]);
+            }
+        }
+    }
+    let nodes = paths.iter().fold(0u64, |a, &p| a.saturating_add(p));
+    let mut uses = vec![0u64; root.meshes.len()];
+    for (node, &p) in paths.iter().enumerate() {
+        if let Some(u) = root.nodes[node].mesh.and_then(|m| uses.get_mut(m.value())) {
+            *u = u.saturating_add(p);
+        }
+    }
+    let primitives = uses
         .iter()
-        .filter_map(|&r| memo.get(r))
-        .fold(Expansion::default(), |a, x| Expansion {
-            nodes: a.nodes.saturating_add(x.nodes),
-            triangles: a.triangles.saturating_add(x.triangles),
-        });
-    if total.nodes > limits.max_nodes {
+        .enumerate()
+        .map(|(m, &u)| match u {
+            0 | 1 => mesh_triangles(root, m).saturating_mul(u),
+            _ => mesh_triangles(root, m).saturating_add(u),
+        })
+        .fold(0u64, u64::saturating_add);
+    if nodes > limits.max_nodes {
         return Err(Error::Limit {
             path: path.to_path_buf(),
             place: String::new(),
             msg: format!(
                 "the node graph expands to {} node instances (nodes reached along several paths count once per path), over the limit of {}: raise it with --max-nodes N",
-                total.nodes, limits.max_nodes
+                nodes, limits.max_nodes
             ),
         });
     }
-    if total.triangles > limits.max_primitives {
-        return Err(limits.primitives_error(path, "", total.triangles));
+    if primitives > limits.max_primitives {
+        return Err(limits.primitives_error(path, "", primitives));
     }
-    Ok(())
+    Ok(uses)
 }

@@ -14,6 +14,7 @@ mod obj_textures;
 mod ply;
 pub(crate) mod texture_load;
 
+pub(crate) use self::normals::applied_once;
 pub use self::normals::{Crease, Normals, DEFAULT_CREASE_DEG};
 use crate::error::{Error, Result};
 use crate::sandbox::Sandbox;
@@ -21,6 +22,7 @@ use glam::{DMat3, DMat4, DVec3};
 use gridrt_bbox::{Aabb, Real, Vec3};
 use gridrt_tracer::{Camera, Light, Material, MaterialMaps, Mesh, Rgb, Texture};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// The kinds of model file gridrt reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -70,17 +72,23 @@ pub struct Model {
     pub warnings: Vec<String>,
 }
 
-/// One mesh of a model.
+/// One mesh of a model, in the file's order (glTF: node order).
 #[derive(Clone, Debug)]
 pub struct ModelMesh {
-    /// The triangles, vertex order as in the file.
-    pub mesh: Mesh,
+    /// The triangles, vertex order as in the file: in the model's space,
+    /// or, when `placement` is given, in the mesh's own space and shared
+    /// with the other placements of the mesh.
+    pub mesh: Arc<Mesh>,
     /// Index into [`Model::materials`]; `None` for the default material.
     pub material: Option<usize>,
     /// True when the mesh's transform mirrors space (negative determinant):
     /// the winding is reversed, so front faces turn clockwise until
-    /// [`ModelMesh::oriented`] swaps them back.
+    /// [`ModelMesh::oriented`] swaps them back. Always false for a placed
+    /// mesh, whose mirror the renderer handles.
     pub mirrored: bool,
+    /// For a mesh the file uses more than once (a glTF mesh on several
+    /// nodes): where this use places it in the model's space.
+    pub placement: Option<DMat4>,
 }
 
 impl ModelMesh {
@@ -88,7 +96,7 @@ impl ModelMesh {
     /// triangles' second and third vertices swapped.
     #[must_use]
     pub fn oriented(&self) -> Mesh {
-        let mut mesh = self.mesh.clone();
+        let mut mesh = (*self.mesh).clone();
         if self.mirrored {
             for t in &mut mesh.triangles {
                 t.swap(1, 2);
@@ -175,7 +183,22 @@ impl Model {
         self.meshes.iter().map(|m| m.mesh.triangles.len()).sum()
     }
 
-    /// The box around every vertex used by a triangle.
+    /// What the model costs in primitives: the triangles of its baked
+    /// meshes, those of each shared mesh once, and one per placement.
+    #[must_use]
+    pub fn primitive_count(&self) -> usize {
+        let mut seen = std::collections::HashSet::new();
+        self.meshes
+            .iter()
+            .map(|m| match m.placement {
+                None => m.mesh.triangles.len(),
+                Some(_) if seen.insert(Arc::as_ptr(&m.mesh)) => m.mesh.triangles.len() + 1,
+                Some(_) => 1,
+            })
+            .sum()
+    }
+
+    /// The box around every triangle, placements applied.
     #[must_use]
     pub fn bounds(&self) -> Aabb {
         self.triangles().flatten().fold(Aabb::EMPTY, Aabb::grow)
@@ -186,22 +209,23 @@ impl Model {
     pub fn triangles(&self) -> impl Iterator<Item = [Vec3; 3]> + '_ {
         self.meshes.iter().flat_map(|m| {
             let p = &m.mesh.positions;
-            m.mesh
-                .triangles
-                .iter()
-                .map(move |t| [p[t[0] as usize], p[t[1] as usize], p[t[2] as usize]])
+            let place = m.placement;
+            let at = move |k: u32| match place {
+                None => p[k as usize],
+                Some(w) => to_vec3(w.transform_point3(to_dvec3(p[k as usize]))),
+            };
+            m.mesh.triangles.iter().map(move |t| t.map(at))
         })
     }
 
-    /// Applies an affine transform to every mesh (positions, and normals by
-    /// the inverse transpose) and to the camera and lights.
-    ///
-    /// # Errors
-    /// A message when the matrix is singular or a vertex becomes non-finite.
     pub(crate) fn transform(&mut self, m: &DMat4) -> std::result::Result<(), String> {
         let xf = Xform::new(m)?;
         for (i, mm) in self.meshes.iter_mut().enumerate() {
-            xf.apply(&mut mm.mesh)
+            if let Some(p) = &mut mm.placement {
+                *p = xf.m * *p;
+                continue;
+            }
+            xf.apply(Arc::make_mut(&mut mm.mesh))
                 .map_err(|e| format!("mesh {i} \"{}\": {e}", mm.mesh.name))?;
             mm.mirrored ^= xf.mirrors;
         }
@@ -316,6 +340,15 @@ pub(crate) fn r64(x: Real) -> f64 {
 }
 
 /// `Vec3` (f32 or f64) to `DVec3`.
+/// The object-to-world map of an affine transform matrix.
+pub(crate) fn affine(m: &DMat4) -> gridrt_tracer::Affine {
+    let r = |v: glam::DVec4| Vec3::new(v.x as Real, v.y as Real, v.z as Real);
+    gridrt_tracer::Affine {
+        cols: [r(m.x_axis), r(m.y_axis), r(m.z_axis)],
+        translation: r(m.w_axis),
+    }
+}
+
 #[inline]
 pub(crate) fn to_dvec3(v: Vec3) -> DVec3 {
     DVec3::new(r64(v.x), r64(v.y), r64(v.z))
@@ -410,9 +443,10 @@ mod tests {
         let mut model = Model {
             path: "x".into(),
             meshes: vec![ModelMesh {
-                mesh: tri_mesh(),
+                mesh: Arc::new(tri_mesh()),
                 material: None,
                 mirrored: false,
+                placement: None,
             }],
             materials: vec![],
             cameras: vec![],

@@ -57,6 +57,24 @@ impl TryFrom<f64> for Crease {
 
 impl Normals {
     /// Gives `mesh` the normals this asks for.
+    /// `mesh` with these normals: the same shared mesh when they change
+    /// nothing (file normals, flat facets of a mesh without normals,
+    /// smoothing of a mesh that has normals), else a changed copy.
+    #[must_use]
+    pub fn applied(self, mesh: &std::sync::Arc<Mesh>) -> std::sync::Arc<Mesh> {
+        let unchanged = match self {
+            Self::File => true,
+            Self::Flat => mesh.normals.is_empty(),
+            Self::Smooth(_) => !mesh.normals.is_empty() || mesh.triangles.is_empty(),
+        };
+        if unchanged {
+            return std::sync::Arc::clone(mesh);
+        }
+        let mut m = (**mesh).clone();
+        self.apply(&mut m);
+        std::sync::Arc::new(m)
+    }
+
     pub fn apply(self, mesh: &mut Mesh) {
         match self {
             Self::File => {}
@@ -64,6 +82,20 @@ impl Normals {
             Self::Smooth(Crease(deg)) => smooth(mesh, deg),
         }
     }
+}
+
+/// `mesh` with `normals` applied, once per shared mesh (`cache` by the
+/// mesh's address), so that placements still share one copy.
+pub(crate) fn applied_once(
+    cache: &mut std::collections::HashMap<*const Mesh, std::sync::Arc<Mesh>>,
+    mesh: &std::sync::Arc<Mesh>,
+    normals: Normals,
+) -> std::sync::Arc<Mesh> {
+    std::sync::Arc::clone(
+        cache
+            .entry(std::sync::Arc::as_ptr(mesh))
+            .or_insert_with(|| normals.applied(mesh)),
+    )
 }
 
 /// Corners around one position beyond which the crease test, which is

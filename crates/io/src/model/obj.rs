@@ -100,9 +100,10 @@ pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) ->
         }
         let material = m.mesh.material_id.filter(|&id| id < materials.len());
         meshes.push(ModelMesh {
-            mesh,
+            mesh: std::sync::Arc::new(mesh),
             material,
             mirrored: false,
+            placement: None,
         });
     }
     if meshes.is_empty() {

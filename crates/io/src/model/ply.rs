@@ -274,9 +274,10 @@ pub(crate) fn load(path: &Path, bytes: &[u8], sandbox: &Sandbox) -> Result<Model
     Ok(Model {
         path: path.to_path_buf(),
         meshes: vec![ModelMesh {
-            mesh,
+            mesh: std::sync::Arc::new(mesh),
             material: None,
             mirrored: false,
+            placement: None,
         }],
         materials: Vec::new(),
         cameras: Vec::new(),
