@@ -191,6 +191,11 @@ pub struct AccelArgs {
     /// Default: 8 times the primitives' own size, and at least 4 MiB.
     #[arg(long = "grid-memory", value_name = "MIB", value_parser = parse_grid_memory)]
     pub grid_memory: Option<usize>,
+    /// Bake every mesh into world space, even one placed many times
+    /// (by default such a mesh is stored once with a grid of its own and
+    /// each placement is one primitive): to compare speed and memory.
+    #[arg(long = "no-instancing")]
+    pub no_instancing: bool,
 }
 
 /// `--accel` values.
@@ -287,6 +292,7 @@ impl AccelArgs {
             accel: self.accel.kind(),
             grid: self.grid_config(),
             threads: threads.map(|t| t as usize),
+            instancing: !self.no_instancing,
             ..RenderOptions::default()
         }
     }
@@ -865,6 +871,16 @@ fn info(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
     );
     if let Some(g) = renderer.grid_stats() {
         t += &grid_line(g);
+    }
+    let inst = renderer.instancing();
+    if inst.instances > 0 {
+        t += &format!(
+            "instances   {} placements of {} shared mesh{}, {:.2} MiB\n",
+            inst.instances,
+            inst.shared_meshes,
+            if inst.shared_meshes == 1 { "" } else { "es" },
+            inst.bytes as f64 / (1024.0 * 1024.0)
+        );
     }
     t += &format!("build       {:.3} s\n", renderer.build_time().as_secs_f64());
     put(out, &t);

@@ -45,6 +45,11 @@ impl SharedMeshes {
         Self(uses.into_keys().collect())
     }
 
+    /// No mesh shared: every placement baked.
+    pub(crate) fn none() -> Self {
+        Self(HashSet::new())
+    }
+
     /// Whether object `o` is placed through a shared grid (else its
     /// triangles go into the scene's grid).
     pub(crate) fn keeps(&self, scene: &Scene, o: &Object) -> bool {

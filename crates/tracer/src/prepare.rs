@@ -55,8 +55,16 @@ pub(crate) struct Prepared {
 
 /// Validates the scene and converts it. Triangles of zero area are left
 /// out of the grid (they can never be hit).
-pub(crate) fn prepare(scene: &Scene, mesh_grid: &GridConfig) -> Result<Prepared, SceneError> {
-    let shared = SharedMeshes::of(scene);
+/// `mesh_grid` builds the grids of shared meshes; `None` bakes every
+/// instance into world space.
+pub(crate) fn prepare(
+    scene: &Scene,
+    mesh_grid: Option<&GridConfig>,
+) -> Result<Prepared, SceneError> {
+    let shared = match mesh_grid {
+        Some(_) => SharedMeshes::of(scene),
+        None => SharedMeshes::none(),
+    };
     let (count, all_spheres) = validate(scene, &shared)?;
     let s = &scene.settings;
     let camera = CameraModel::new(&scene.camera, s.width, s.height)?;
@@ -66,7 +74,10 @@ pub(crate) fn prepare(scene: &Scene, mesh_grid: &GridConfig) -> Result<Prepared,
     let (prims, instancing) = convert(
         scene,
         Counts { count, all_spheres },
-        &Instancing { shared, mesh_grid },
+        &Instancing {
+            shared,
+            mesh_grid: mesh_grid.copied().unwrap_or_default(),
+        },
         plan.light_sampling,
         &mut data,
     );
@@ -332,9 +343,9 @@ struct Counts {
 }
 
 /// Which meshes stay shared, and how to build their grids.
-struct Instancing<'a> {
+struct Instancing {
     shared: SharedMeshes,
-    mesh_grid: &'a GridConfig,
+    mesh_grid: GridConfig,
 }
 
 fn convert(
@@ -492,7 +503,7 @@ fn convert(
                                     };
                                 Arc::new(MeshGrid::new(
                                     Arc::clone(mesh),
-                                    instancing.mesh_grid,
+                                    &instancing.mesh_grid,
                                     shading,
                                 ))
                             }));
@@ -571,7 +582,7 @@ mod tests {
     #[test]
     fn a_coloured_set_is_one_material_and_its_colours() {
         let scene = suffern::scene(50);
-        let p = prepare(&scene, &GridConfig::default()).unwrap();
+        let p = prepare(&scene, Some(&GridConfig::default())).unwrap();
         assert!(matches!(p.data.prim_material, PrimMaterials::Uniform(0)));
         let Geometry::Spheres(set) = &scene.objects[0].geometry else {
             panic!("the benchmark is one sphere set");
@@ -604,7 +615,7 @@ mod tests {
             colors: Vec::new(),
         };
         scene.objects.push(set_object(plain, 1));
-        let p = prepare(&scene, &GridConfig::default()).unwrap();
+        let p = prepare(&scene, Some(&GridConfig::default())).unwrap();
         let Geometry::Spheres(set) = &scene.objects[1].geometry else {
             panic!("object 1 is the benchmark's set");
         };
@@ -629,7 +640,7 @@ mod tests {
             },
             0,
         ));
-        let p = prepare(&scene, &GridConfig::default()).unwrap();
+        let p = prepare(&scene, Some(&GridConfig::default())).unwrap();
         assert!(p.data.prim_albedo.is_empty());
         assert!(matches!(p.data.prim_material, PrimMaterials::Uniform(0)));
         assert_eq!(p.prims.len(), 4);

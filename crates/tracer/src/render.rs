@@ -52,6 +52,10 @@ pub struct RenderOptions {
     pub triangle_test: TriangleTest,
     /// How secondary rays leave surfaces (default: by the error bound).
     pub ray_offset: RayOffset,
+    /// Whether a mesh placed by several [`crate::Geometry::Instance`]
+    /// objects keeps one grid shared by its placements (default); when
+    /// false every placement is baked into world space.
+    pub instancing: bool,
 }
 
 impl Default for RenderOptions {
@@ -62,6 +66,7 @@ impl Default for RenderOptions {
             threads: None,
             triangle_test: TriangleTest::Watertight,
             ray_offset: RayOffset::ErrorBound,
+            instancing: true,
         }
     }
 }
@@ -192,7 +197,7 @@ impl Renderer {
             height,
             spp,
             instancing,
-        } = pool.install(|| prepare(scene, &mesh_grid))?;
+        } = pool.install(|| prepare(scene, options.instancing.then_some(&mesh_grid)))?;
         data.ray_offset = options.ray_offset;
         let prims = with_triangle_test(prims, options.triangle_test);
         let prim_count = prims.len() + data.planes.len();

@@ -3,7 +3,7 @@
 
 use crate::common::*;
 use gridrt_grid::{Real, Vec3};
-use gridrt_tracer::{AccelKind, Affine, Geometry, Mesh, Renderer, Scene};
+use gridrt_tracer::{AccelKind, Affine, Geometry, Mesh, RenderOptions, Renderer, Scene};
 use std::sync::Arc;
 
 /// A rotation by `deg` about y, scaled by `s`, moved by `t`; mirrored in x
@@ -108,6 +108,17 @@ fn shared_instances_render_like_their_baked_copies() {
     // Only pixels whose ray grazes a silhouette or a shadow edge may differ
     // (the transform rounds the ray differently from the baked vertices).
     assert!(differ * 100 <= a.pixels.len(), "{differ} pixels differ");
+    // Instancing switched off bakes every placement: the same picture.
+    let off = RenderOptions {
+        instancing: false,
+        ..RenderOptions::default()
+    };
+    assert_eq!(
+        Renderer::new(&shared, &off).unwrap().instancing().instances,
+        0
+    );
+    let (c, _) = render_with(&shared, &off);
+    assert_eq!(c.pixels, b.pixels);
     let lit = a.pixels.iter().filter(|p| p.max_element() > 0.05).count();
     assert!(lit * 2 > a.pixels.len(), "the spheres and floor show");
 }
