@@ -192,6 +192,7 @@ mod tests {
                     positions,
                     normals: vec![],
                     uvs: vec![],
+                    uvs1: vec![],
                     colors: vec![],
                     triangles,
                 }),

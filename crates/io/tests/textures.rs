@@ -153,3 +153,66 @@ fn ply_vertex_colours_are_read_and_srgb_decoded() {
     assert!((c[2].x - 0.5).abs() < 0.01, "{}", c[2]);
     assert!(m.warnings.is_empty(), "{:?}", m.warnings);
 }
+
+/// A glTF triangle with two texture-coordinate sets (set 0 along the
+/// triangle, set 1 constant at u = 0.75: the PNG's green texel) and a
+/// base-colour texture reading `set`, and, when `emissive`, an emissive
+/// texture reading set 0.
+fn write_two_set_gltf(dir: &Path, set: u32, emissive: bool) -> PathBuf {
+    let emissive = if emissive {
+        r#", "emissiveTexture": {"index": 0}"#
+    } else {
+        ""
+    };
+    write_png(&dir.join("rg.png"));
+    let f = |v: &[f32]| v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>();
+    let mut bin = f(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]);
+    bin.extend(f(&[0.0, 0.5, 1.0, 0.5, 0.0, 0.5]));
+    bin.extend(f(&[0.75, 0.5, 0.75, 0.5, 0.75, 0.5]));
+    std::fs::write(dir.join("t.bin"), &bin).unwrap();
+    let json = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}],
+        "nodes": [{{"mesh": 0}}],
+        "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1, "TEXCOORD_1": 2}}, "material": 0}}]}}],
+        "materials": [{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0, "texCoord": {set}}}}}{emissive}}}],
+        "textures": [{{"source": 0}}], "images": [{{"uri": "rg.png"}}],
+        "accessors": [
+            {{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}},
+            {{"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}},
+            {{"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC2"}}],
+        "bufferViews": [{{"buffer": 0, "byteLength": 36}}, {{"buffer": 0, "byteOffset": 36, "byteLength": 24}},
+                        {{"buffer": 0, "byteOffset": 60, "byteLength": 24}}],
+        "buffers": [{{"byteLength": 84, "uri": "t.bin"}}]}}"#
+    );
+    let path = dir.join("t.gltf");
+    std::fs::write(&path, json).unwrap();
+    path
+}
+
+#[test]
+fn gltf_textures_read_the_texcoord_set_they_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = load_model(&write_two_set_gltf(dir.path(), 1, true)).unwrap();
+    let mesh = &m.meshes[0].mesh;
+    assert_eq!(mesh.uvs1, vec![glam::Vec2::new(0.75, 0.5); 3]);
+    assert_eq!(mesh.uvs[1], glam::Vec2::new(1.0, 0.5));
+    let maps = &m.materials[0].maps;
+    assert_eq!(maps.base_color.map(|r| r.set), Some(1));
+    assert_eq!(maps.emissive.map(|r| r.set), Some(0));
+    // Textures on set 1 only: it is the mesh's one set.
+    let m = load_model(&write_two_set_gltf(dir.path(), 1, false)).unwrap();
+    assert_eq!(m.meshes[0].mesh.uvs, vec![glam::Vec2::new(0.75, 0.5); 3]);
+    assert!(m.meshes[0].mesh.uvs1.is_empty());
+    // Textures on set 0 only: the second set is not kept.
+    let m = load_model(&write_two_set_gltf(dir.path(), 0, false)).unwrap();
+    assert!(m.meshes[0].mesh.uvs1.is_empty());
+    assert_eq!(m.materials[0].maps.base_color.map(|r| r.set), Some(0));
+    // A set beyond 1 is read as set 0, with a warning.
+    let m = load_model(&write_two_set_gltf(dir.path(), 3, false)).unwrap();
+    assert!(
+        m.warnings.iter().any(|w| w.contains("TEXCOORD_3")),
+        "{:?}",
+        m.warnings
+    );
+    assert_eq!(m.materials[0].maps.base_color.map(|r| r.set), Some(0));
+}

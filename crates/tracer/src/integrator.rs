@@ -9,7 +9,7 @@ use crate::robustness::RayOffset;
 use crate::sampling::SampleStream;
 use crate::scene::{Material, Rgb};
 use crate::shapes::{Instance, Plane, Surface, SurfacePoint};
-use crate::texture::shade::{self, TextureData, TriFrame};
+use crate::texture::shade::{self, HitUv, TextureData, TriFrame};
 use gridrt_bbox::{Ray, Real, Vec3};
 use gridrt_grid::{Accelerator, Hit};
 
@@ -24,6 +24,8 @@ pub(crate) struct MeshShading {
     pub triangles: Vec<[u32; 3]>,
     /// Empty (untextured) or one per vertex.
     pub uvs: Vec<glam::Vec2>,
+    /// The second texture-coordinate set: empty, or one per vertex.
+    pub uvs1: Vec<glam::Vec2>,
     /// One per triangle when `uvs` is not empty.
     pub frames: Vec<TriFrame>,
 }
@@ -371,8 +373,10 @@ where
             .mesh_triangle(h)
             .and_then(|t| Self::uv_at(&t, h.u, h.v));
         // Alpha is read at the finest level: cut-out edges stay sharp.
+        let [uv, uv1] = uv.map_or([glam::Vec2::ZERO; 2], |h| h.uv);
         let q = crate::texture::TexQuery {
-            uv: uv.map_or(glam::Vec2::ZERO, |(uv, _)| uv),
+            uv,
+            uv1,
             p,
             width: 0.0,
         };
@@ -404,21 +408,31 @@ where
         })
     }
 
-    /// Texture coordinates and the triangle's texture frame at barycentrics
-    /// `(u, v)` of a textured mesh triangle.
+    /// Texture coordinates (both sets; the first twice where the mesh has
+    /// one) and the triangle's texture frame at barycentrics `(u, v)` of a
+    /// textured mesh triangle.
     #[inline]
-    fn uv_at(t: &MeshTriangle, u: Real, v: Real) -> Option<(glam::Vec2, TriFrame)> {
+    fn uv_at(t: &MeshTriangle, u: Real, v: Real) -> Option<HitUv> {
         let mesh = t.mesh;
         let mut frame = *mesh.frames.get(t.tri as usize)?;
         let [a, b, c] = t.corners;
         let (u, v) = (crate::float::to_f32(u), crate::float::to_f32(v));
-        let uv = mesh.uvs[a as usize] * (1.0 - u - v)
-            + mesh.uvs[b as usize] * u
-            + mesh.uvs[c as usize] * v;
+        let at = |set: &[glam::Vec2]| {
+            set[a as usize] * (1.0 - u - v) + set[b as usize] * u + set[c as usize] * v
+        };
+        let uv = at(&mesh.uvs);
+        let uv1 = if mesh.uvs1.is_empty() {
+            uv
+        } else {
+            at(&mesh.uvs1)
+        };
         if let Some(inst) = t.instance {
             frame = inst.frame_to_world(frame);
         }
-        Some((uv, frame))
+        Some(HitUv {
+            uv: [uv, uv1],
+            frame,
+        })
     }
 
     /// The interpolated vertex colour at barycentrics `(u, v)` of a mesh
@@ -557,12 +571,7 @@ where
 
     /// `sh` with its material's textures applied (unchanged without any).
     #[inline]
-    fn textured(
-        &self,
-        ray: &Ray,
-        mut sh: Shading,
-        uv: impl FnOnce() -> Option<(glam::Vec2, TriFrame)>,
-    ) -> Shading {
+    fn textured(&self, ray: &Ray, mut sh: Shading, uv: impl FnOnce() -> Option<HitUv>) -> Shading {
         let Some(maps) = self.data.tex.of(sh.material) else {
             return sh;
         };
@@ -581,7 +590,7 @@ where
             base,
             sh.ns,
             sh.sp.n,
-            uv.map(|(_, f)| f),
+            uv.map(|h| h.frame),
         );
         sh.albedo = t.albedo.or(sh.albedo);
         if maps.metallic_roughness.is_some() {

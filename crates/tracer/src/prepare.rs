@@ -328,6 +328,7 @@ fn mesh_shading(m: &crate::scene::Mesh, uvs: bool) -> MeshShading {
         normals: m.normals.clone(),
         colors: m.colors.clone(),
         triangles: m.triangles.clone(),
+        uvs1: if uvs { m.uvs1.clone() } else { Vec::new() },
         uvs: uv,
         frames,
     }

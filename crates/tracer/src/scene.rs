@@ -265,6 +265,9 @@ pub struct Mesh {
     /// glTF, `(0, 0)` is the top-left corner of an image and `v` grows
     /// downwards (loaders of OBJ and PLY files flip their `v`).
     pub uvs: Vec<glam::Vec2>,
+    /// A second texture-coordinate set, read by textures whose
+    /// [`crate::TextureRef::set`] is 1: empty, or one per position.
+    pub uvs1: Vec<glam::Vec2>,
     /// Per-vertex linear-RGB colours (PLY `red`, `green`, `blue`): empty,
     /// or one per position. Interpolated over each triangle, they replace
     /// the albedo of a Matte, Phong or Reflective material (a base-colour

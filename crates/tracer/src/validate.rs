@@ -430,6 +430,7 @@ fn check_mesh(i: usize, m: &Mesh) -> Result<(), SceneError> {
     let counts = [
         ("normals", m.normals.len()),
         ("uvs", m.uvs.len()),
+        ("second uvs", m.uvs1.len()),
         ("colors", m.colors.len()),
     ];
     for (attribute, n) in counts {

@@ -26,6 +26,7 @@ fn tilted_floor(n: Vec3, eye: Vec3, floor: Material) -> Scene {
         ],
         normals: vec![n.normalize(); 4],
         uvs: vec![],
+        uvs1: vec![],
         colors: vec![],
         triangles: vec![[0, 1, 2], [0, 2, 3]],
     };

@@ -27,6 +27,7 @@ fn quad(r: Real, y: Real, tiles: f32) -> Geometry {
             glam::Vec2::new(t, t),
             glam::Vec2::new(t, 0.0),
         ],
+        uvs1: vec![],
         colors: vec![],
         triangles: vec![[0, 1, 2], [0, 2, 3]],
     }))
@@ -83,6 +84,42 @@ fn an_image_shows_upright_with_its_linear_colours() {
     s.textures.maps.clear();
     let (img, _) = render(&s);
     assert_eq!(img.get(1, 1), Rgb::ONE);
+}
+
+#[test]
+fn a_texture_on_the_second_set_reads_the_second_coordinates() {
+    let mut s = top_view(8, 8);
+    let m = material(&mut s, matte(Rgb::ONE, 1.0, 0.0));
+    s.lights.push(ambient(1.0));
+    let mut q = quad(1.0, 0.0, 1.0);
+    if let Geometry::Mesh(mesh) = &mut q {
+        // The second set puts the whole quad in the image's green texel.
+        mesh.uvs1 = vec![glam::Vec2::new(0.75, 0.25); 4];
+    }
+    object(&mut s, q, m);
+    s.textures.list.push(image(2, 2, &QUADRANTS, NEAREST));
+    let on_set = |set: u8| MaterialMaps {
+        base_color: Some(TextureRef {
+            set,
+            ..TextureRef::new(0)
+        }),
+        ..MaterialMaps::default()
+    };
+    s.textures.maps.push(on_set(1));
+    let (img, _) = render(&s);
+    assert!(img.pixels.iter().all(|p| *p == Rgb::new(0.0, 1.0, 0.0)));
+    // The first set still shows the four quadrants.
+    s.textures.maps[0] = on_set(0);
+    let (img, _) = render(&s);
+    assert_eq!(img.get(1, 1), Rgb::new(1.0, 0.0, 0.0));
+    assert_eq!(img.get(6, 6), Rgb::ONE);
+    // A mesh with one set reads it for references to the second.
+    if let Geometry::Mesh(mesh) = &mut s.objects[0].geometry {
+        mesh.uvs1.clear();
+    }
+    s.textures.maps[0] = on_set(1);
+    let (img, _) = render(&s);
+    assert_eq!(img.get(1, 1), Rgb::new(1.0, 0.0, 0.0));
 }
 
 /// A 64 × 64 black-and-white checker tiled 15.7 times across the quad,

@@ -563,6 +563,13 @@ impl Loader<'_> {
             },
             None => Vec::new(),
         };
+        let [uvs, uvs1] = gltf_textures::primitive_uvs(
+            prim,
+            n,
+            self.buffers,
+            (self.path, place),
+            &mut self.warnings,
+        );
         let tmesh = Mesh {
             name: format!(
                 "{}:{}/{}/{}",
@@ -581,13 +588,8 @@ impl Loader<'_> {
                 .iter()
                 .map(|p| Vec3::new(p[0] as Real, p[1] as Real, p[2] as Real))
                 .collect(),
-            uvs: gltf_textures::primitive_uvs(
-                prim,
-                n,
-                self.buffers,
-                (self.path, place),
-                &mut self.warnings,
-            ),
+            uvs,
+            uvs1,
             colors: Vec::new(),
             triangles,
         };

@@ -15,21 +15,36 @@ use gridrt_tracer::texture::{AlphaMode, Sampler, TexFilter, UvTransform, Wrap};
 use gridrt_tracer::{MaterialMaps, Rgb, TextureRef};
 use std::path::Path;
 
-/// The texture-coordinate set a material's textures use: the base
-/// colour's, else the first texture's (a material whose textures use
-/// different sets is read with this one; see `docs/scene-format.md`).
-pub(crate) fn uv_set(m: &gltf::Material) -> Option<u32> {
+/// The texture-coordinate set a texture reference reads
+/// (`KHR_texture_transform` may override the reference's own).
+fn info_set(i: &gltf::texture::Info) -> u32 {
+    i.texture_transform()
+        .and_then(|t| t.tex_coord())
+        .unwrap_or_else(|| i.tex_coord())
+}
+
+/// The texture-coordinate sets a material's textures read, each once.
+fn uv_sets(m: &gltf::Material) -> Vec<u32> {
     let pbr = m.pbr_metallic_roughness();
-    let info_set = |i: gltf::texture::Info| {
-        i.texture_transform()
-            .and_then(|t| t.tex_coord())
-            .unwrap_or_else(|| i.tex_coord())
-    };
-    pbr.base_color_texture()
-        .map(info_set)
-        .or_else(|| m.emissive_texture().map(info_set))
-        .or_else(|| pbr.metallic_roughness_texture().map(info_set))
-        .or_else(|| m.normal_texture().map(|n| n.tex_coord()))
+    let mut sets: Vec<u32> = [
+        pbr.base_color_texture(),
+        m.emissive_texture(),
+        pbr.metallic_roughness_texture(),
+    ]
+    .iter()
+    .flatten()
+    .map(info_set)
+    .chain(m.normal_texture().map(|n| n.tex_coord()))
+    .collect();
+    sets.sort_unstable();
+    sets.dedup();
+    sets
+}
+
+/// The set a reference reads as rendered: sets 0 and 1 are read; a higher
+/// one reads set 0 (with a warning from [`primitive_uvs`]).
+fn rendered_set(set: u32) -> u8 {
+    u8::from(set == 1)
 }
 
 fn sampler(t: &gltf::Texture) -> Sampler {
@@ -136,6 +151,7 @@ pub(crate) fn maps(
             Ok(Some(TextureRef {
                 texture: id,
                 transform: transform(&i),
+                set: rendered_set(info_set(&i)),
             }))
         };
     let base_color = get(pbr.base_color_texture(), true, "baseColorTexture")?;
@@ -146,14 +162,17 @@ pub(crate) fn maps(
         "metallicRoughnessTexture",
     )?;
     let normal = match m.normal_texture() {
-        Some(n) => Some(TextureRef::new(texture(
-            loader,
-            path,
-            buffers,
-            &n.texture(),
-            false,
-            &format!("{place} normalTexture"),
-        )?)),
+        Some(n) => Some(TextureRef {
+            set: rendered_set(n.tex_coord()),
+            ..TextureRef::new(texture(
+                loader,
+                path,
+                buffers,
+                &n.texture(),
+                false,
+                &format!("{place} normalTexture"),
+            )?)
+        }),
         None => None,
     };
     let unit = |x: f32| {
@@ -257,26 +276,39 @@ pub(crate) fn primitive_uvs(
     buffers: &[Vec<u8>],
     (path, place): (&Path, &str),
     warnings: &mut Vec<String>,
-) -> Vec<glam::Vec2> {
-    let Some(set) = uv_set(&prim.material()) else {
-        return Vec::new();
-    };
-    match prim
-        .get(&gltf::Semantic::TexCoords(set))
-        .map(|a| read_uvs(&a, buffers))
-    {
-        Some(Ok(uv)) if uv.len() == n => uv,
-        other => {
-            let why = match other {
-                None => "is missing".to_string(),
-                Some(Err(e)) => e,
-                Some(Ok(_)) => "has the wrong count".to_string(),
-            };
+) -> [Vec<glam::Vec2>; 2] {
+    let mut out = [Vec::new(), Vec::new()];
+    let sets = uv_sets(&prim.material());
+    for &set in &sets {
+        if set > 1 {
             warnings.push(format!(
-                "{}: {place}: TEXCOORD_{set} {why}; textures read at (0, 0)",
+                "{}: {place}: a texture reads TEXCOORD_{set}; only sets 0 and 1 are read, so it reads TEXCOORD_0",
                 path.display()
             ));
-            Vec::new()
+            continue;
+        }
+        match prim
+            .get(&gltf::Semantic::TexCoords(set))
+            .map(|a| read_uvs(&a, buffers))
+        {
+            Some(Ok(uv)) if uv.len() == n => out[set as usize] = uv,
+            other => {
+                let why = match other {
+                    None => "is missing".to_string(),
+                    Some(Err(e)) => e,
+                    Some(Ok(_)) => "has the wrong count".to_string(),
+                };
+                let fallback = if set == 1 { "TEXCOORD_0" } else { "(0, 0)" };
+                warnings.push(format!(
+                    "{}: {place}: TEXCOORD_{set} {why}; its textures read {fallback}",
+                    path.display()
+                ));
+            }
         }
     }
+    // Only set 1 read: it is the mesh's one set.
+    if !sets.contains(&0) {
+        out.swap(0, 1);
+    }
+    out
 }

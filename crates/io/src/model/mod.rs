@@ -413,6 +413,7 @@ mod tests {
             positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
             normals: vec![Vec3::Z; 3],
             uvs: vec![],
+            uvs1: vec![],
             colors: vec![],
             triangles: vec![[0, 1, 2]],
         }

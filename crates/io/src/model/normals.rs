@@ -241,6 +241,7 @@ mod tests {
             positions,
             normals: vec![],
             uvs: vec![],
+            uvs1: vec![],
             colors: vec![],
             triangles,
         }
@@ -289,6 +290,7 @@ mod tests {
             ],
             normals: vec![],
             uvs: vec![],
+            uvs1: vec![],
             colors: vec![],
             triangles: vec![[0, 2, 1], [3, 4, 5]],
         };

@@ -217,6 +217,7 @@ fn convert_mesh(
         positions,
         normals,
         uvs,
+        uvs1: Vec::new(),
         colors: Vec::new(),
         triangles,
     };

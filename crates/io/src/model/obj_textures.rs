@@ -99,6 +99,7 @@ pub(crate) fn maps(m: &tobj::Material, loader: &mut TextureLoader) -> Result<Mat
                 TextureRef {
                     texture: id,
                     transform: spec.transform,
+                    set: 0,
                 },
                 spec,
             )))

@@ -394,6 +394,7 @@ fn build_mesh(
         positions,
         normals,
         uvs,
+        uvs1: Vec::new(),
         colors,
         triangles,
     };

@@ -53,6 +53,9 @@ pub enum Texture {
 pub struct TexQuery {
     /// Texture coordinates (after the reference's transform).
     pub uv: glam::Vec2,
+    /// The hit's second texture-coordinate set, read by references to set
+    /// 1 (equal to `uv` where the mesh has one set).
+    pub uv1: glam::Vec2,
     /// The hit point, world space (solid textures).
     pub p: Vec3,
     /// Width of the pixel's footprint in texture-coordinate units (0: a point).
@@ -161,6 +164,9 @@ pub struct TextureRef {
     pub texture: u32,
     /// Transform of the mesh's texture coordinates before the lookup.
     pub transform: UvTransform,
+    /// Which texture-coordinate set the lookup reads: 0 or 1 (glTF's
+    /// `texCoord`; a mesh without a second set reads its first).
+    pub set: u8,
 }
 
 impl TextureRef {
@@ -170,6 +176,7 @@ impl TextureRef {
         Self {
             texture,
             transform: UvTransform::IDENTITY,
+            set: 0,
         }
     }
 }
@@ -297,7 +304,7 @@ impl MaterialMaps {
 pub(crate) fn lookup(textures: &[Texture], r: &TextureRef, q: &TexQuery) -> Option<[f32; 4]> {
     let t = textures.get(r.texture as usize)?;
     let q = TexQuery {
-        uv: r.transform.apply(q.uv),
+        uv: r.transform.apply(if r.set == 1 { q.uv1 } else { q.uv }),
         width: q.width * r.transform.stretch(),
         ..*q
     };
@@ -403,6 +410,7 @@ mod tests {
         };
         let q = TexQuery {
             uv: Vec2::ZERO,
+            uv1: Vec2::ZERO,
             p: Vec3::ZERO,
             width: 0.0,
         };

@@ -46,6 +46,14 @@ impl TriFrame {
     }
 }
 
+/// A hit's texture coordinates (both sets) and its triangle's texture
+/// frame (of the first set: footprints and tangent frames use it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct HitUv {
+    pub uv: [glam::Vec2; 2],
+    pub frame: TriFrame,
+}
+
 /// The scene's textures as shading reads them.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct TextureData {
@@ -73,7 +81,7 @@ impl TextureData {
         t: Real,
         p: Vec3,
         ng: Vec3,
-        uv: Option<(glam::Vec2, TriFrame)>,
+        uv: Option<HitUv>,
     ) -> TexQuery {
         let len = to_f32(ray.dir.length());
         let world = self.footprint[0] + self.footprint[1] * to_f32(t) * len;
@@ -85,14 +93,11 @@ impl TextureData {
         // A grazing footprint is stretched along one axis; the isotropic
         // lookup takes the geometric mean of the two widths.
         let width = match uv {
-            Some((_, f)) => world * f.density / cos.max(1e-2).sqrt(),
+            Some(h) => world * h.frame.density / cos.max(1e-2).sqrt(),
             None => 0.0,
         };
-        TexQuery {
-            uv: uv.map_or(glam::Vec2::ZERO, |(uv, _)| uv),
-            p,
-            width,
-        }
+        let [uv, uv1] = uv.map_or([glam::Vec2::ZERO; 2], |h| h.uv);
+        TexQuery { uv, uv1, p, width }
     }
 
     /// The alpha of material `maps` at `q`.
@@ -205,6 +210,7 @@ fn bumped(
     let h = |du: f32, dv: f32| {
         let q = TexQuery {
             uv: q.uv + glam::Vec2::new(du, dv),
+            uv1: q.uv1 + glam::Vec2::new(du, dv),
             ..*q
         };
         lookup(&data.list, r, &q).map_or(0.0, |t| t[0])
@@ -281,6 +287,7 @@ mod tests {
     fn query() -> TexQuery {
         TexQuery {
             uv: Vec2::new(0.5, 0.5),
+            uv1: Vec2::new(0.5, 0.5),
             p: Vec3::ZERO,
             width: 0.0,
         }
