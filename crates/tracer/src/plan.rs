@@ -25,6 +25,8 @@ pub struct RayCounts {
     pub glossy: u64,
     /// Diffuse bounce rays: indirect light (path tracing).
     pub indirect: u64,
+    /// Occlusion rays of ambient lights with occlusion (Whitted).
+    pub ambient_occlusion: u64,
 }
 
 impl RayCounts {
@@ -39,6 +41,7 @@ impl RayCounts {
             + self.light_sample
             + self.glossy
             + self.indirect
+            + self.ambient_occlusion
     }
 }
 
@@ -51,6 +54,7 @@ impl std::ops::AddAssign for RayCounts {
         self.light_sample += o.light_sample;
         self.glossy += o.glossy;
         self.indirect += o.indirect;
+        self.ambient_occlusion += o.ambient_occlusion;
     }
 }
 
@@ -71,6 +75,9 @@ impl fmt::Display for RayCounts {
                 ", {} light sample, {} glossy, {} indirect",
                 self.light_sample, self.glossy, self.indirect
             )?;
+        }
+        if self.ambient_occlusion > 0 {
+            write!(f, ", {} ambient occlusion", self.ambient_occlusion)?;
         }
         Ok(())
     }
@@ -127,6 +134,11 @@ pub struct EffectPlan {
     pub filter: Filter,
     /// Whether some ambient light reaches a material with `ka > 0`.
     pub ambient: bool,
+    /// Whether ambient occlusion rays are traced: the Whitted tracer, an
+    /// ambient light with `occlusion` and non-zero radiance, and a material
+    /// in use with an ambient term. Off: the ambient term is a constant
+    /// and no occlusion code runs.
+    pub ambient_occlusion: bool,
     /// Point and directional lights evaluated at each shading point (0 when
     /// no material reacts to direct light).
     pub direct_lights: u32,
@@ -266,12 +278,19 @@ impl EffectPlan {
                 .any(|o| matches!(o.geometry, Geometry::Mesh(_)));
 
         let mut ambient = false;
+        let mut occluded_ambient = false;
         let mut direct_lights = 0;
         let mut shadow_lights = 0;
         for l in &scene.lights {
             match *l {
-                Light::Ambient { color, intensity } => {
-                    ambient |= ambient_material && color * intensity != crate::Rgb::ZERO;
+                Light::Ambient {
+                    color,
+                    intensity,
+                    occlusion,
+                } => {
+                    let on = ambient_material && color * intensity != crate::Rgb::ZERO;
+                    ambient |= on;
+                    occluded_ambient |= on && occlusion.is_some();
                 }
                 Light::Point {
                     color,
@@ -358,6 +377,7 @@ impl EffectPlan {
                 Filter::Box
             },
             ambient,
+            ambient_occlusion: occluded_ambient,
             direct_lights,
             shadow_lights,
             shadows: shadow_lights > 0,
@@ -376,8 +396,9 @@ impl EffectPlan {
         }
     }
 
-    /// The plan of the path tracer. Ambient light is not used: the
-    /// background is the environment's radiance.
+    /// The plan of the path tracer. Ambient light (with or without
+    /// occlusion) is not used: the background is the environment's
+    /// radiance.
     fn path(scene: &Scene, has: [bool; 5], direct_lights: u32, shadow_lights: u32) -> Self {
         let [emitting_geometry, reflects, transmits, glossy, indirect] = has;
         let depth = scene.settings.path_max_depth;
@@ -392,6 +413,7 @@ impl EffectPlan {
                 Filter::Box
             },
             ambient: false,
+            ambient_occlusion: false,
             direct_lights,
             shadow_lights,
             shadows: shadow_lights > 0,
@@ -440,8 +462,13 @@ impl fmt::Display for EffectPlan {
         }
         writeln!(
             f,
-            "lights      ambient {}, {} direct",
+            "lights      ambient {}{}, {} direct",
             on_off(self.ambient),
+            if self.ambient_occlusion {
+                " (occlusion rays)"
+            } else {
+                ""
+            },
             self.direct_lights
         )?;
         writeln!(

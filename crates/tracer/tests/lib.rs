@@ -3,6 +3,7 @@
 //! meshes, precision, the Suffern benchmark counts, errors, cancellation.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+mod ambient_occlusion;
 mod area_lights;
 mod common;
 
