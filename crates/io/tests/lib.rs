@@ -9,6 +9,7 @@ mod ambient_occlusion;
 mod bad_inputs;
 mod cli;
 mod docs;
+mod effect_warnings;
 mod environment;
 mod farm;
 mod fixture_scenes;

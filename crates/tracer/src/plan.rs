@@ -188,14 +188,7 @@ impl EffectPlan {
     /// of range are ignored here ([`crate::Renderer::new`] rejects them).
     #[must_use]
     pub fn for_scene(scene: &Scene) -> Self {
-        let mut used = vec![false; scene.materials.len()];
-        // An empty sphere set shows nothing of its material.
-        let shows = |o: &&crate::Object| !matches!(&o.geometry, Geometry::Spheres(s) if s.spheres.is_empty());
-        for m in scene.objects.iter().filter(shows).map(|o| o.material) {
-            if let Some(u) = used.get_mut(m as usize) {
-                *u = true;
-            }
-        }
+        let used = used_materials(scene);
         let in_use = || {
             scene
                 .materials
@@ -227,14 +220,7 @@ impl EffectPlan {
             | Material::Conductor { .. }
             | Material::Emissive { .. } => false,
         });
-        let reflects = in_use().any(|m| match *m {
-            Material::Reflective { kr, reflect, .. } => kr != 0.0 && reflect != crate::Rgb::ZERO,
-            Material::Dielectric { .. }
-            | Material::RoughDielectric { .. }
-            | Material::Conductor { .. }
-            | Material::MetallicRoughness { .. } => true,
-            _ => false,
-        });
+        let reflects = in_use().any(reflects);
         let transmits = in_use().any(|m| {
             matches!(
                 m,
@@ -322,7 +308,7 @@ impl EffectPlan {
         }
         let emits = |m: &Material| matches!(*m, Material::Emissive { color, strength } if color * strength != crate::Rgb::ZERO);
         // Emitting geometry that can be sampled (planes are unbounded).
-        let emitting_geometry = scene.objects.iter().filter(shows).any(|o| {
+        let emitting_geometry = scene.objects.iter().filter(|o| shows(o)).any(|o| {
             !matches!(o.geometry, Geometry::Plane { .. })
                 && scene.materials.get(o.material as usize).is_some_and(emits)
         }) || area_surfaces > 0;
@@ -429,6 +415,51 @@ impl EffectPlan {
             depth_of_field: scene.camera.lens.is_some_and(|l| l.radius > 0.0),
         }
     }
+}
+
+/// Whether an object shows its material (an empty sphere set shows
+/// nothing).
+fn shows(o: &crate::Object) -> bool {
+    !matches!(&o.geometry, Geometry::Spheres(s) if s.spheres.is_empty())
+}
+
+/// Which of the scene's materials some object shows.
+fn used_materials(scene: &Scene) -> Vec<bool> {
+    let mut used = vec![false; scene.materials.len()];
+    for m in scene
+        .objects
+        .iter()
+        .filter(|o| shows(o))
+        .map(|o| o.material)
+    {
+        if let Some(u) = used.get_mut(m as usize) {
+            *u = true;
+        }
+    }
+    used
+}
+
+/// Whether a material sends secondary rays: mirror reflection, Fresnel
+/// reflection and refraction, microfacet lobes.
+fn reflects(m: &Material) -> bool {
+    match *m {
+        Material::Reflective { kr, reflect, .. } => kr != 0.0 && reflect != crate::Rgb::ZERO,
+        Material::Dielectric { .. }
+        | Material::RoughDielectric { .. }
+        | Material::Conductor { .. }
+        | Material::MetallicRoughness { .. } => true,
+        _ => false,
+    }
+}
+
+/// Whether some material in use would send secondary rays (reflection or
+/// refraction) given a `max_depth` above 0.
+pub(crate) fn uses_secondary_rays(scene: &Scene) -> bool {
+    scene
+        .materials
+        .iter()
+        .zip(used_materials(scene))
+        .any(|(m, u)| u && reflects(m))
 }
 
 fn on_off(b: bool) -> &'static str {
