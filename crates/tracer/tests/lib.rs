@@ -21,6 +21,7 @@ mod plan;
 mod precision;
 mod progress;
 mod random_closed;
+mod ray_kinds;
 mod rows;
 mod shading_normals;
 mod suffern;
