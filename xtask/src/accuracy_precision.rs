@@ -106,8 +106,30 @@ pub fn write_scene(scene: &Scene, shift: f64, dir: &Path, stem: &str) -> Res<Pat
     t += "    },\n    lights: [\n";
     for l in &scene.lights {
         let _ = match *l {
-            Light::Ambient { color, intensity } => {
+            Light::Ambient {
+                color,
+                intensity,
+                occlusion: None,
+            } => {
                 writeln!(t, "        Ambient(color: {}, intensity: {intensity}),", rgb(color))
+            }
+            Light::Ambient {
+                color,
+                intensity,
+                occlusion: Some(o),
+            } => {
+                let distance = if o.distance.is_finite() {
+                    format!(", distance: {}", o.distance)
+                } else {
+                    String::new()
+                };
+                writeln!(
+                    t,
+                    "        Ambient(color: {}, intensity: {intensity}, occlusion: Occlusion(samples: {}{distance}, min_amount: {})),",
+                    rgb(color),
+                    o.samples,
+                    o.min_amount
+                )
             }
             Light::Point {
                 position,

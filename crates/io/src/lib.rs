@@ -79,6 +79,7 @@ mod ron_text;
 mod sandbox;
 mod scene;
 mod scene_lights;
+mod scene_numbers;
 mod scene_transform;
 mod schema;
 mod schema_settings;

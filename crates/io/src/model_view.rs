@@ -96,6 +96,7 @@ pub(crate) fn room_lights(b: Aabb) -> Vec<Light> {
         Light::Ambient {
             color: Rgb::ONE,
             intensity: 0.3,
+            occlusion: None,
         },
         Light::Point {
             position: to_vec3(c + DVec3::Y * half.y * 0.8),
@@ -120,6 +121,7 @@ pub(crate) fn object_lights(camera: &Camera) -> Vec<Light> {
         Light::Ambient {
             color: Rgb::ONE,
             intensity: 0.3,
+            occlusion: None,
         },
         Light::Directional {
             direction: to_vec3(key),

@@ -9,12 +9,13 @@ use crate::model_scene::{frame, scene_from_model};
 use crate::ron_text::{line_col, ron_error, Outline};
 use crate::sandbox::Sandbox;
 use crate::scene_lights;
+use crate::scene_numbers::num;
+pub(crate) use crate::scene_numbers::{f32s, unit, v3};
 use crate::schema::{self, CameraDesc, LightDesc, ObjectDesc, ProjectionDesc, SceneFile};
-use glam::DVec3;
 use gridrt_bbox::{Aabb, Real, Vec3};
 use gridrt_tracer::{
-    Camera, Geometry, IntegratorChoice, Light, Material, MaterialId, Object, Projection, Rgb,
-    Scene, Settings, Textures, ThinLens,
+    Camera, Geometry, Light, Material, MaterialId, Object, Projection, Rgb, Scene, Settings,
+    Textures, ThinLens, Where,
 };
 use scene_mesh::{MeshDesc, SharedFile};
 use std::collections::HashMap;
@@ -182,35 +183,6 @@ struct Builder<'a> {
     warnings: Vec<String>,
 }
 
-pub(crate) fn v3(v: [f64; 3]) -> Vec3 {
-    Vec3::new(v[0] as Real, v[1] as Real, v[2] as Real)
-}
-
-/// A number as written in a message: exponent form when it is huge or tiny.
-fn num(x: f64) -> String {
-    if x != 0.0 && !(1e-4..1e15).contains(&x.abs()) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    }
-}
-
-/// The unit vector along `v` (finite, non-zero), computed without
-/// overflow: `(1e300, 0, 0)` is `(1, 0, 0)`, not a zero vector.
-pub(crate) fn unit(v: [f64; 3]) -> DVec3 {
-    let d = DVec3::from_array(v);
-    let m = d.abs().max_element();
-    if m > 0.0 && m.is_finite() {
-        (d / m).normalize()
-    } else {
-        d
-    }
-}
-
-pub(crate) fn f32s(x: f64) -> f32 {
-    x as f32
-}
-
 impl<'a> Builder<'a> {
     fn new(path: &'a Path, real: &'a Path, src: &'a str, sandbox: &'a Sandbox) -> Self {
         Self {
@@ -362,17 +334,6 @@ impl<'a> Builder<'a> {
                 }
             }
         }
-        if settings.integrator == IntegratorChoice::Whitted {
-            if let Some(i) = lights
-                .iter()
-                .position(|l| matches!(l, Light::Environment { .. }))
-            {
-                self.warnings.push(format!(
-                    "{}: lights[{i}]: `integrator: Whitted` shows an Environment light only behind the objects and lights nothing with it: use `integrator: Path` (or `Auto`) for light from the environment",
-                    self.path.display()
-                ));
-            }
-        }
         if lights.is_empty() {
             self.warnings.push(format!(
                 "{}: the scene has no lights: only emissive objects will light it (path tracing) or show (Whitted)",
@@ -405,20 +366,46 @@ impl<'a> Builder<'a> {
                 (frame(bounds, 45.0, aspect), true)
             }
         };
+        let scene = Scene {
+            textures: std::mem::take(&mut self.textures),
+            camera,
+            settings,
+            materials: std::mem::take(&mut self.materials),
+            lights,
+            objects: std::mem::take(&mut self.objects),
+        };
+        self.ignored(&scene);
         Ok(LoadedScene {
-            scene: Scene {
-                textures: self.textures,
-                camera,
-                settings,
-                materials: self.materials,
-                lights,
-                objects: self.objects,
-            },
+            scene,
             source: self.path.to_path_buf(),
             warnings: self.warnings,
             framed_camera: framed,
             cameras: Vec::new(),
         })
+    }
+
+    /// A warning for each request the scene makes that its other contents
+    /// make impossible ([`gridrt_tracer::ignored_effects`]).
+    fn ignored(&mut self, scene: &Scene) {
+        for i in gridrt_tracer::ignored_effects(scene) {
+            let at = match i.at {
+                Where::Light(k) => format!("lights[{k}]"),
+                Where::Object(k) => {
+                    self.current = Some(k);
+                    self.place(None, &format!("objects[{k}]"))
+                }
+                Where::Setting(f) => self.place(None, "settings") + "." + f,
+                _ => "scene".to_string(),
+            };
+            // `file:line:col: what` as errors write it, else `file: what`.
+            let sep = if at.starts_with(|c: char| c.is_ascii_digit()) {
+                ":"
+            } else {
+                ": "
+            };
+            let w = format!("{}{sep}{at}: {}", self.path.display(), i.message);
+            self.warnings.push(w);
+        }
     }
 
     fn camera(&self, c: &CameraDesc) -> Result<Camera> {
@@ -696,7 +683,7 @@ mod tests {
     use super::*;
     use crate::scene_transform::transform_matrix;
     use crate::schema::TransformDesc;
-    use glam::DMat4;
+    use glam::{DMat4, DVec3};
 
     fn parse(text: &str) -> Result<LoadedScene> {
         parse_scene(text, Path::new("t.ron"))

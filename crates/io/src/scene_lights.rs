@@ -7,14 +7,24 @@ use crate::sandbox::Sandbox;
 use crate::scene::{f32s, unit, v3};
 use crate::schema::LightDesc;
 use gridrt_bbox::Real;
-use gridrt_tracer::{EnvImage, Light, Rgb};
+use gridrt_tracer::{EnvImage, Light, Occlusion, Rgb};
 use std::path::{Path, PathBuf};
 
 pub(crate) fn light(d: &LightDesc) -> Light {
     match d {
-        LightDesc::Ambient { color, intensity } => Light::Ambient {
+        LightDesc::Ambient {
+            color,
+            intensity,
+            occlusion,
+        } => Light::Ambient {
             color: model::rgb(color.0),
             intensity: f32s(intensity.0),
+            occlusion: occlusion.as_ref().map(|o| Occlusion {
+                samples: o.samples.0,
+                // A distance beyond the range of `Real` is no limit.
+                distance: o.distance.map_or(Real::INFINITY, |d| d.0 as Real),
+                min_amount: f32s(o.min_amount.0),
+            }),
         },
         LightDesc::Point {
             position,

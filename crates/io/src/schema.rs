@@ -282,16 +282,37 @@ fn yes() -> bool {
     true
 }
 
+/// Ambient occlusion of an ambient light (Suffern's ambient occluder):
+/// `Occlusion(samples: 16, distance: 2, min_amount: 0)`; no `distance`:
+/// occluders at any distance count.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, rename = "Occlusion")]
+pub(crate) struct OcclusionDesc {
+    #[serde(default = "sixteen")]
+    pub samples: AoSamples,
+    #[serde(default)]
+    pub distance: Option<Positive>,
+    #[serde(default)]
+    pub min_amount: Unit,
+}
+
+fn sixteen() -> AoSamples {
+    AoSamples(16)
+}
+
 /// Light sources.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields, rename = "Light")]
 pub(crate) enum LightDesc {
-    /// `Ambient(color: (1, 1, 1), intensity: 0.2)`.
+    /// `Ambient(color: (1, 1, 1), intensity: 0.2, occlusion: Occlusion(..))`;
+    /// without `occlusion` the same light reaches every point.
     Ambient {
         #[serde(default = "white")]
         color: Color,
         #[serde(default = "one_nn")]
         intensity: NonNeg,
+        #[serde(default)]
+        occlusion: Option<OcclusionDesc>,
     },
     /// `Point(position: (x, y, z), color, intensity: 1, inverse_square: false, shadows: true)`.
     Point {

@@ -283,6 +283,25 @@ impl TryFrom<f64> for Ior {
     }
 }
 
+/// Occlusion rays per shaded point, 1..=[`Occlusion::MAX_SAMPLES`].
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(try_from = "u32")]
+pub(crate) struct AoSamples(pub u32);
+
+impl TryFrom<u32> for AoSamples {
+    type Error = String;
+    fn try_from(x: u32) -> Result<Self, String> {
+        let max = gridrt_tracer::Occlusion::MAX_SAMPLES;
+        if (1..=max).contains(&x) {
+            Ok(Self(x))
+        } else {
+            Err(format!(
+                "occlusion samples {x} is out of range: use 1 to {max} rays per shaded point"
+            ))
+        }
+    }
+}
+
 /// A sphere count for `RandomSpheres`, at most 10 million.
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
 #[serde(try_from = "u32")]

@@ -5,9 +5,11 @@
 // Test helpers outside #[test] functions unwrap too: a failure is a test failure.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+mod ambient_occlusion;
 mod bad_inputs;
 mod cli;
 mod docs;
+mod effect_warnings;
 mod environment;
 mod farm;
 mod fixture_scenes;

@@ -174,8 +174,12 @@ pub(crate) struct SceneData {
     pub meshes: Vec<MeshShading>,
     pub planes: Vec<Plane>,
     pub plane_material: Vec<u32>,
-    /// Sum of the ambient lights' radiance.
+    /// Sum of the radiance of the ambient lights without occlusion (and
+    /// of those with occlusion when the plan traces no occlusion rays).
     pub ambient: Rgb,
+    /// The ambient lights with occlusion, when the plan traces occlusion
+    /// rays.
+    pub occluders: Vec<crate::occlusion::AmbientOccluder>,
     pub lights: Vec<DirectLight>,
     pub background: Rgb,
     /// The environment light, which replaces `background` when present.

@@ -28,7 +28,7 @@
 //!     settings: Settings { width: 32, height: 24, ..Settings::default() },
 //!     materials: vec![Material::Matte { color: Rgb::new(0.8, 0.3, 0.2), ka: 0.1, kd: 0.9 }],
 //!     lights: vec![
-//!         Light::Ambient { color: Rgb::ONE, intensity: 1.0 },
+//!         Light::Ambient { color: Rgb::ONE, intensity: 1.0, occlusion: None },
 //!         Light::Directional {
 //!             direction: Vec3::new(1.0, 1.0, 1.0),
 //!             color: Rgb::ONE,
@@ -78,9 +78,11 @@ mod error;
 mod float;
 mod framebuffer;
 pub mod hard_meshes;
+mod ignored;
 mod instancing;
 mod integrator;
 mod lights;
+mod occlusion;
 pub mod offset_scenes;
 pub mod optics;
 mod path;
@@ -105,6 +107,7 @@ pub use aov::{Aov, AovImage};
 pub use error::{Cancelled, SceneError};
 pub use framebuffer::{Framebuffer, LiveImage, PixelRect};
 pub use gridrt_grid::Accelerator;
+pub use ignored::{ignored_effects, Ignored, Where};
 pub use instancing::InstancingStats;
 pub use plan::{EffectPlan, IntegratorKind, RayCounts};
 pub use prepare::MAX_PIXELS;
@@ -113,7 +116,7 @@ pub use robustness::{RayOffset, TriangleTest};
 pub use sampling::{Filter, SamplerKind};
 pub use scene::{
     Camera, ConductorFresnel, EnvImage, Geometry, IntegratorChoice, Light, Material, MaterialId,
-    Mesh, Object, Projection, Rgb, Scene, Settings, SphereSet, ThinLens,
+    Mesh, Object, Occlusion, Projection, Rgb, Scene, Settings, SphereSet, ThinLens,
 };
 pub use shapes::{Cuboid, MtTriangle, Plane, Shape, Sphere, Triangle, MT_EPSILON};
 pub use texture::{MaterialMaps, Texture, TextureRef, Textures};

@@ -25,6 +25,8 @@ pub struct RayCounts {
     pub glossy: u64,
     /// Diffuse bounce rays: indirect light (path tracing).
     pub indirect: u64,
+    /// Occlusion rays of ambient lights with occlusion (Whitted).
+    pub ambient_occlusion: u64,
 }
 
 impl RayCounts {
@@ -39,6 +41,7 @@ impl RayCounts {
             + self.light_sample
             + self.glossy
             + self.indirect
+            + self.ambient_occlusion
     }
 }
 
@@ -51,6 +54,7 @@ impl std::ops::AddAssign for RayCounts {
         self.light_sample += o.light_sample;
         self.glossy += o.glossy;
         self.indirect += o.indirect;
+        self.ambient_occlusion += o.ambient_occlusion;
     }
 }
 
@@ -71,6 +75,9 @@ impl fmt::Display for RayCounts {
                 ", {} light sample, {} glossy, {} indirect",
                 self.light_sample, self.glossy, self.indirect
             )?;
+        }
+        if self.ambient_occlusion > 0 {
+            write!(f, ", {} ambient occlusion", self.ambient_occlusion)?;
         }
         Ok(())
     }
@@ -127,6 +134,11 @@ pub struct EffectPlan {
     pub filter: Filter,
     /// Whether some ambient light reaches a material with `ka > 0`.
     pub ambient: bool,
+    /// Whether ambient occlusion rays are traced: the Whitted tracer, an
+    /// ambient light with `occlusion` and non-zero radiance, and a material
+    /// in use with an ambient term. Off: the ambient term is a constant
+    /// and no occlusion code runs.
+    pub ambient_occlusion: bool,
     /// Point and directional lights evaluated at each shading point (0 when
     /// no material reacts to direct light).
     pub direct_lights: u32,
@@ -176,14 +188,7 @@ impl EffectPlan {
     /// of range are ignored here ([`crate::Renderer::new`] rejects them).
     #[must_use]
     pub fn for_scene(scene: &Scene) -> Self {
-        let mut used = vec![false; scene.materials.len()];
-        // An empty sphere set shows nothing of its material.
-        let shows = |o: &&crate::Object| !matches!(&o.geometry, Geometry::Spheres(s) if s.spheres.is_empty());
-        for m in scene.objects.iter().filter(shows).map(|o| o.material) {
-            if let Some(u) = used.get_mut(m as usize) {
-                *u = true;
-            }
-        }
+        let used = used_materials(scene);
         let in_use = || {
             scene
                 .materials
@@ -215,14 +220,7 @@ impl EffectPlan {
             | Material::Conductor { .. }
             | Material::Emissive { .. } => false,
         });
-        let reflects = in_use().any(|m| match *m {
-            Material::Reflective { kr, reflect, .. } => kr != 0.0 && reflect != crate::Rgb::ZERO,
-            Material::Dielectric { .. }
-            | Material::RoughDielectric { .. }
-            | Material::Conductor { .. }
-            | Material::MetallicRoughness { .. } => true,
-            _ => false,
-        });
+        let reflects = in_use().any(reflects);
         let transmits = in_use().any(|m| {
             matches!(
                 m,
@@ -266,12 +264,19 @@ impl EffectPlan {
                 .any(|o| matches!(o.geometry, Geometry::Mesh(_)));
 
         let mut ambient = false;
+        let mut occluded_ambient = false;
         let mut direct_lights = 0;
         let mut shadow_lights = 0;
         for l in &scene.lights {
             match *l {
-                Light::Ambient { color, intensity } => {
-                    ambient |= ambient_material && color * intensity != crate::Rgb::ZERO;
+                Light::Ambient {
+                    color,
+                    intensity,
+                    occlusion,
+                } => {
+                    let on = ambient_material && color * intensity != crate::Rgb::ZERO;
+                    ambient |= on;
+                    occluded_ambient |= on && occlusion.is_some();
                 }
                 Light::Point {
                     color,
@@ -303,7 +308,7 @@ impl EffectPlan {
         }
         let emits = |m: &Material| matches!(*m, Material::Emissive { color, strength } if color * strength != crate::Rgb::ZERO);
         // Emitting geometry that can be sampled (planes are unbounded).
-        let emitting_geometry = scene.objects.iter().filter(shows).any(|o| {
+        let emitting_geometry = scene.objects.iter().filter(|o| shows(o)).any(|o| {
             !matches!(o.geometry, Geometry::Plane { .. })
                 && scene.materials.get(o.material as usize).is_some_and(emits)
         }) || area_surfaces > 0;
@@ -358,6 +363,7 @@ impl EffectPlan {
                 Filter::Box
             },
             ambient,
+            ambient_occlusion: occluded_ambient,
             direct_lights,
             shadow_lights,
             shadows: shadow_lights > 0,
@@ -376,8 +382,9 @@ impl EffectPlan {
         }
     }
 
-    /// The plan of the path tracer. Ambient light is not used: the
-    /// background is the environment's radiance.
+    /// The plan of the path tracer. Ambient light (with or without
+    /// occlusion) is not used: the background is the environment's
+    /// radiance.
     fn path(scene: &Scene, has: [bool; 5], direct_lights: u32, shadow_lights: u32) -> Self {
         let [emitting_geometry, reflects, transmits, glossy, indirect] = has;
         let depth = scene.settings.path_max_depth;
@@ -392,6 +399,7 @@ impl EffectPlan {
                 Filter::Box
             },
             ambient: false,
+            ambient_occlusion: false,
             direct_lights,
             shadow_lights,
             shadows: shadow_lights > 0,
@@ -407,6 +415,51 @@ impl EffectPlan {
             depth_of_field: scene.camera.lens.is_some_and(|l| l.radius > 0.0),
         }
     }
+}
+
+/// Whether an object shows its material (an empty sphere set shows
+/// nothing).
+fn shows(o: &crate::Object) -> bool {
+    !matches!(&o.geometry, Geometry::Spheres(s) if s.spheres.is_empty())
+}
+
+/// Which of the scene's materials some object shows.
+fn used_materials(scene: &Scene) -> Vec<bool> {
+    let mut used = vec![false; scene.materials.len()];
+    for m in scene
+        .objects
+        .iter()
+        .filter(|o| shows(o))
+        .map(|o| o.material)
+    {
+        if let Some(u) = used.get_mut(m as usize) {
+            *u = true;
+        }
+    }
+    used
+}
+
+/// Whether a material sends secondary rays: mirror reflection, Fresnel
+/// reflection and refraction, microfacet lobes.
+fn reflects(m: &Material) -> bool {
+    match *m {
+        Material::Reflective { kr, reflect, .. } => kr != 0.0 && reflect != crate::Rgb::ZERO,
+        Material::Dielectric { .. }
+        | Material::RoughDielectric { .. }
+        | Material::Conductor { .. }
+        | Material::MetallicRoughness { .. } => true,
+        _ => false,
+    }
+}
+
+/// Whether some material in use would send secondary rays (reflection or
+/// refraction) given a `max_depth` above 0.
+pub(crate) fn uses_secondary_rays(scene: &Scene) -> bool {
+    scene
+        .materials
+        .iter()
+        .zip(used_materials(scene))
+        .any(|(m, u)| u && reflects(m))
 }
 
 fn on_off(b: bool) -> &'static str {
@@ -440,8 +493,13 @@ impl fmt::Display for EffectPlan {
         }
         writeln!(
             f,
-            "lights      ambient {}, {} direct",
+            "lights      ambient {}{}, {} direct",
             on_off(self.ambient),
+            if self.ambient_occlusion {
+                " (occlusion rays)"
+            } else {
+                ""
+            },
             self.direct_lights
         )?;
         writeln!(

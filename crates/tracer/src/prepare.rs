@@ -142,7 +142,16 @@ fn shading_data(scene: &Scene, plan: &EffectPlan) -> SceneData {
     };
     for l in &scene.lights {
         match *l {
-            Light::Ambient { color, intensity } => data.ambient += color * intensity,
+            Light::Ambient {
+                color,
+                intensity,
+                occlusion,
+            } => match occlusion {
+                Some(o) if plan.ambient_occlusion && color * intensity != Rgb::ZERO => data
+                    .occluders
+                    .push(crate::occlusion::AmbientOccluder::new(color * intensity, o)),
+                _ => data.ambient += color * intensity,
+            },
             Light::Point {
                 position,
                 color,

@@ -609,14 +609,31 @@ impl Job<'_> {
             return self.pick_jitter::<A, PathTracer>(accel, data, plan);
         }
         match (plan.shadows, plan.light_sampling) {
-            (false, false) => self.pick_secondary::<A, false, false>(accel, data, plan),
-            (true, false) => self.pick_secondary::<A, true, false>(accel, data, plan),
-            (false, true) => self.pick_secondary::<A, false, true>(accel, data, plan),
-            (true, true) => self.pick_secondary::<A, true, true>(accel, data, plan),
+            (false, false) => self.pick_occlusion::<A, false, false>(accel, data, plan),
+            (true, false) => self.pick_occlusion::<A, true, false>(accel, data, plan),
+            (false, true) => self.pick_occlusion::<A, false, true>(accel, data, plan),
+            (true, true) => self.pick_occlusion::<A, true, true>(accel, data, plan),
         }
     }
 
-    fn pick_secondary<A, const SHADOWS: bool, const AREA: bool>(
+    fn pick_occlusion<A, const SHADOWS: bool, const AREA: bool>(
+        &self,
+        accel: &A,
+        data: &SceneData,
+        plan: &EffectPlan,
+    ) -> Result<Output, Cancelled>
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+    {
+        if plan.ambient_occlusion {
+            self.pick_secondary::<A, SHADOWS, AREA, true>(accel, data, plan)
+        } else {
+            self.pick_secondary::<A, SHADOWS, AREA, false>(accel, data, plan)
+        }
+    }
+
+    fn pick_secondary<A, const SHADOWS: bool, const AREA: bool, const AO: bool>(
         &self,
         accel: &A,
         data: &SceneData,
@@ -630,19 +647,19 @@ impl Job<'_> {
         // rays only come with reflection.
         match (plan.reflection, plan.refraction, plan.glossy) {
             (false, false, _) => self
-                .pick_jitter::<A, Whitted<SHADOWS, false, false, AREA, false>>(accel, data, plan),
-            (true, false, false) => {
-                self.pick_jitter::<A, Whitted<SHADOWS, true, false, AREA, false>>(accel, data, plan)
-            }
-            (true, false, true) => {
-                self.pick_jitter::<A, Whitted<SHADOWS, true, false, AREA, true>>(accel, data, plan)
-            }
-            (_, true, false) => {
-                self.pick_jitter::<A, Whitted<SHADOWS, true, true, AREA, false>>(accel, data, plan)
-            }
-            (_, true, true) => {
-                self.pick_jitter::<A, Whitted<SHADOWS, true, true, AREA, true>>(accel, data, plan)
-            }
+                .pick_jitter::<A, Whitted<SHADOWS, false, false, AREA, false, AO>>(
+                    accel, data, plan,
+                ),
+            (true, false, false) => self
+                .pick_jitter::<A, Whitted<SHADOWS, true, false, AREA, false, AO>>(
+                    accel, data, plan,
+                ),
+            (true, false, true) => self
+                .pick_jitter::<A, Whitted<SHADOWS, true, false, AREA, true, AO>>(accel, data, plan),
+            (_, true, false) => self
+                .pick_jitter::<A, Whitted<SHADOWS, true, true, AREA, false, AO>>(accel, data, plan),
+            (_, true, true) => self
+                .pick_jitter::<A, Whitted<SHADOWS, true, true, AREA, true, AO>>(accel, data, plan),
         }
     }
 

@@ -421,15 +421,45 @@ pub struct EnvImage {
     pub pixels: Vec<Rgb>,
 }
 
+/// Ambient occlusion of an ambient light (Suffern ch. 17, the
+/// `AmbientOccluder`). At each shaded point `samples` directions are drawn
+/// from the cosine-weighted hemisphere about the shading normal, on the
+/// side the viewing ray came from, and an occlusion ray of length
+/// `distance` is traced along each. A point whose rays are all free gets
+/// the full ambient light; one whose rays are all blocked gets
+/// `min_amount` of it; in between, the share of free rays interpolates:
+/// `L = L_ambient · (min_amount + (1 − min_amount) · free / samples)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Occlusion {
+    /// Occlusion rays per shaded point and pixel sample, ≥ 1.
+    pub samples: u32,
+    /// How far an occluder may be to count, > 0 (`Real::INFINITY`: at any
+    /// distance).
+    pub distance: Real,
+    /// The share of the ambient light a fully occluded point still gets,
+    /// in `[0, 1]` (Suffern's `min_amount`).
+    pub min_amount: f32,
+}
+
+impl Occlusion {
+    /// The most occlusion rays per shaded point that a scene may ask for.
+    pub const MAX_SAMPLES: u32 = 1024;
+}
+
 /// Light sources.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Light {
     /// Constant light from everywhere; lights `ka·color` of every material.
+    /// With `occlusion`, Suffern's ambient occluder: the light a point gets
+    /// is scaled by how open its hemisphere is (Whitted only; the path
+    /// tracer gathers no ambient light).
     Ambient {
         /// Colour.
         color: Rgb,
         /// Radiance scale.
         intensity: f32,
+        /// Ambient occlusion; `None`: the same light everywhere.
+        occlusion: Option<Occlusion>,
     },
     /// A point light.
     Point {

@@ -331,6 +331,7 @@ pub fn scene_of(set: SphereSet) -> Scene {
             Light::Ambient {
                 color: Rgb::ONE,
                 intensity: 1.0,
+                occlusion: None,
             },
             Light::Directional {
                 direction: Vec3::new(-10.0, 20.0, 20.0),

@@ -7,7 +7,7 @@ use crate::float::to_f64;
 use crate::instancing::SharedMeshes;
 use crate::lights::AreaLight;
 use crate::prepare::MAX_PIXELS;
-use crate::scene::{Geometry, Light, Material, Mesh, Rgb, Scene, SphereSet};
+use crate::scene::{Geometry, Light, Material, Mesh, Occlusion, Rgb, Scene, SphereSet};
 use crate::shapes::Sphere;
 
 pub(crate) fn color_ok(c: Rgb) -> bool {
@@ -132,7 +132,25 @@ fn check_material(i: usize, m: &Material) -> Result<(), SceneError> {
 fn check_light(i: usize, l: &Light) -> Result<(), SceneError> {
     let bad = |reason| Err(SceneError::BadLight { light: i, reason });
     let (color, intensity) = match *l {
-        Light::Ambient { color, intensity } => (color, intensity),
+        Light::Ambient {
+            color,
+            intensity,
+            occlusion,
+        } => {
+            if let Some(o) = occlusion {
+                if !(1..=Occlusion::MAX_SAMPLES).contains(&o.samples) {
+                    return bad("the occlusion samples must be in 1..=1024");
+                }
+                // `!(x > 0)` is true for NaN.
+                if !(o.distance > 0.0) {
+                    return bad("the occlusion distance must be > 0 (omit it for no limit)");
+                }
+                if !(0.0..=1.0).contains(&o.min_amount) {
+                    return bad("the occlusion's min_amount must be in [0, 1]");
+                }
+            }
+            (color, intensity)
+        }
         Light::Point {
             position,
             color,

@@ -4,6 +4,7 @@
 use crate::bsdf::microfacet::Ggx;
 use crate::bsdf::Micro;
 use crate::float::to_f32;
+use crate::occlusion::occluded_ambient;
 use crate::optics::{fresnel_dielectric, reflect, refract};
 use crate::sampling::maps::Frame;
 use crate::sampling::SampleStream;
@@ -20,7 +21,9 @@ use crate::integrator::{DirectLight, Integrator, Li, Shading, ThreadState, Trace
 /// mirror reflection, `REFRACT = false` dielectrics, `AREA = false` the
 /// sampling of area lights (soft shadows): the plan instantiates only the
 /// combination the scene needs. `GLOSSY = false` removes the sampled
-/// reflection (and transmission) rays of rough microfacet surfaces.
+/// reflection (and transmission) rays of rough microfacet surfaces,
+/// `AO = false` the occlusion rays of ambient lights with occlusion (the
+/// ambient term is then a constant).
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct Whitted<
     const SHADOWS: bool,
@@ -28,6 +31,7 @@ pub(crate) struct Whitted<
     const REFRACT: bool,
     const AREA: bool,
     const GLOSSY: bool,
+    const AO: bool,
 >;
 
 impl<
@@ -36,12 +40,13 @@ impl<
         const REFRACT: bool,
         const AREA: bool,
         const GLOSSY: bool,
-    > Integrator for Whitted<SHADOWS, REFLECT, REFRACT, AREA, GLOSSY>
+        const AO: bool,
+    > Integrator for Whitted<SHADOWS, REFLECT, REFRACT, AREA, GLOSSY, AO>
 {
-    // Light and lobe sampling draw from each pixel sample's stream, which
-    // the render loop only hands out per sample.
-    const BATCH: bool = !(AREA || GLOSSY);
-    const SAMPLED: bool = AREA || GLOSSY;
+    // Light, lobe and occlusion sampling draw from each pixel sample's
+    // stream, which the render loop only hands out per sample.
+    const BATCH: bool = !(AREA || GLOSSY || AO);
+    const SAMPLED: bool = AREA || GLOSSY || AO;
 
     #[inline]
     fn li<A>(
@@ -318,7 +323,7 @@ fn secondary_ns(ng: Vec3, ns: Vec3, wo: Vec3) -> Vec3 {
 /// surfaces, spheres) the direction is on its side by construction, up to
 /// rounding at grazing angles, and is left as it is.
 #[inline]
-fn on_side(w: Vec3, ng: Vec3, ns: Vec3, above: bool) -> Vec3 {
+pub(crate) fn on_side(w: Vec3, ng: Vec3, ns: Vec3, above: bool) -> Vec3 {
     if ns == ng {
         return w;
     }
@@ -355,7 +360,8 @@ impl<
         const REFRACT: bool,
         const AREA: bool,
         const GLOSSY: bool,
-    > Whitted<SHADOWS, REFLECT, REFRACT, AREA, GLOSSY>
+        const AO: bool,
+    > Whitted<SHADOWS, REFLECT, REFRACT, AREA, GLOSSY, AO>
 {
     /// The secondary ray of a microfacet surface: the mirror of a smooth
     /// conductor (with `REFLECT`), or one direction sampled from a rough
@@ -422,7 +428,9 @@ impl<
 
     /// Ambient plus direct lighting with Suffern's BRDFs: Lambert `kd·cd/π`
     /// and, with `spec = (ks·cs, exp)`, the glossy `ks·cs·(r·wo)^exp`; each
-    /// light contributes `f · L · cos θ`.
+    /// light contributes `f · L · cos θ`. With `AO`, the ambient lights
+    /// with occlusion add what of them reaches the point (only where
+    /// `ambient` is not black).
     #[allow(clippy::too_many_arguments)]
     #[inline]
     fn direct<A>(
@@ -440,7 +448,11 @@ impl<
         A: Accelerator,
         A::Prim: Surface,
     {
-        let mut l = ambient * tr.data.ambient;
+        let mut l = if AO && ambient != Rgb::ZERO {
+            ambient * (tr.data.ambient + occluded_ambient(tr, sp, ng, ns, stream, ts))
+        } else {
+            ambient * tr.data.ambient
+        };
         if brdf.is_black() {
             return l;
         }

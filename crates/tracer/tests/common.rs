@@ -102,6 +102,7 @@ pub fn ambient(intensity: f32) -> Light {
     Light::Ambient {
         color: Rgb::ONE,
         intensity,
+        occlusion: None,
     }
 }
 

@@ -214,6 +214,7 @@ fn materials_and_lights() {
         Light::Ambient {
             color: Rgb::ONE,
             intensity: -2.0,
+            occlusion: None,
         },
     ] {
         let mut s = valid();

@@ -3,6 +3,7 @@
 //! meshes, precision, the Suffern benchmark counts, errors, cancellation.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+mod ambient_occlusion;
 mod area_lights;
 mod common;
 
@@ -21,6 +22,7 @@ mod plan;
 mod precision;
 mod progress;
 mod random_closed;
+mod ray_kinds;
 mod rows;
 mod shading_normals;
 mod suffern;

@@ -183,6 +183,20 @@ impl SampleStream {
     }
 }
 
+/// Point `k` of `n` of a Hammersley set shifted by `u` modulo 1 (a
+/// Cranley-Patterson rotation): `n` well-spread points in `[0, 1)²` drawn
+/// from one 2D sample, for estimators that take many directions at one
+/// shading point (ambient occlusion). Every point of `[0, 1)²` is equally
+/// likely for each `k` when `u` is uniform, so the average is unbiased.
+#[inline]
+pub(crate) fn rotated_hammersley(k: u32, n: u32, u: (Real, Real)) -> (Real, Real) {
+    debug_assert!(k < n);
+    let wrap = |x: Real| (if x >= 1.0 { x - 1.0 } else { x }).min(ONE_MINUS_ULP);
+    let x = (k as Real + 0.5) / n as Real;
+    let y = sobol::to_unit(k.reverse_bits());
+    (wrap(x + u.0), wrap(y + u.1))
+}
+
 /// Dimension pair `pair` of sample `s` of `n` of pixel `pixel`.
 #[cfg(test)]
 pub(crate) fn sample_2d(kind: SamplerKind, pixel: u64, s: u32, n: u32, pair: u32) -> (Real, Real) {
@@ -291,6 +305,24 @@ mod tests {
         for kind in [SamplerKind::Sobol, SamplerKind::MultiJittered] {
             assert_ne!(sample_2d(kind, 1, 0, 4, 1), sample_2d(kind, 1, 0, 4, 2));
             assert_ne!(sample_2d(kind, 1, 0, 4, 1), sample_2d(kind, 2, 0, 4, 1));
+        }
+    }
+
+    #[test]
+    fn rotated_hammersley_keeps_one_point_per_column_and_row() {
+        let n = 16;
+        for u in [(0.0, 0.0), (0.37, 0.91), (0.999, 0.5)] {
+            let mut cols = [0u32; 16];
+            let mut rows = [0u32; 16];
+            for k in 0..n {
+                let (x, y) = rotated_hammersley(k, n, u);
+                assert!((0.0..1.0).contains(&x) && (0.0..1.0).contains(&y));
+                cols[(x * n as Real) as usize] += 1;
+                rows[(y * n as Real) as usize] += 1;
+            }
+            // A shifted (0, 2)-net keeps its strata, up to wrap-around.
+            assert!(cols.iter().all(|&c| c == 1), "{u:?}: {cols:?}");
+            assert!(rows.iter().all(|&c| c <= 2), "{u:?}: {rows:?}");
         }
     }
 }
