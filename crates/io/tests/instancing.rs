@@ -89,12 +89,19 @@ fn different_normals_make_different_shared_meshes() {
 
 #[test]
 fn a_shared_file_under_a_singular_or_huge_transform_is_refused() {
+    // A stretch and a shift each within range whose sum is not.
+    let max = f64::from(gridrt_bbox::Real::MAX);
+    let overflow = format!(
+        "Scale(({:e}, 1, 1)), Translate(({:e}, 0, 0))",
+        0.1 * max,
+        0.9 * max
+    );
     for (t, want) in [
         (
             "Matrix(((1, 0, 0, 0), (0, 1, 0, 0), (1, 1, 0, 0), (0, 0, 0, 1)))",
             "singular",
         ),
-        ("Scale(1e38), Translate((3e38, 0, 0))", "non-finite"),
+        (overflow.as_str(), "non-finite"),
     ] {
         let text = format!(
             r#"Scene(objects: [

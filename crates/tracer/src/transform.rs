@@ -84,7 +84,8 @@ impl Affine {
         let c = self.cols.map(to_dvec3);
         let m = glam::DMat3::from_cols(c[0], c[1], c[2]);
         let det = m.determinant();
-        let scale = c[0].length() * c[1].length() * c[2].length();
+        // Largest entries, not lengths: their squares would overflow first.
+        let scale = c.iter().map(|v| v.abs().max_element()).product::<f64>();
         if det == 0.0 || !det.is_finite() || det.abs() <= scale * 1e-12 {
             return None;
         }

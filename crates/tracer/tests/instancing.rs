@@ -46,7 +46,10 @@ fn baked(m: &Mesh, a: &Affine) -> Mesh {
 /// copies when `bake`.
 fn scene_of(mesh: &Arc<Mesh>, placements: &[Affine], bake: bool) -> Scene {
     let mut s = empty_scene(64, 48, Vec3::new(0.0, 4.0, 9.0));
-    let m = material(&mut s, matte(Vec3::new(0.8, 0.6, 0.4), 0.2, 0.8));
+    let m = material(
+        &mut s,
+        matte(gridrt_tracer::Rgb::new(0.8, 0.6, 0.4), 0.2, 0.8),
+    );
     for a in placements {
         let geometry = if bake {
             Geometry::Mesh(Box::new(baked(mesh, a)))

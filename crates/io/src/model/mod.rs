@@ -293,7 +293,10 @@ impl Xform {
         let m3 = DMat3::from_mat4(*m);
         let det = m3.determinant();
         // Relative to the scale of the matrix, so tiny but valid scales pass.
-        let scale = m3.x_axis.length() * m3.y_axis.length() * m3.z_axis.length();
+        // Largest entries, not lengths: their squares would overflow first.
+        let scale = m3.x_axis.abs().max_element()
+            * m3.y_axis.abs().max_element()
+            * m3.z_axis.abs().max_element();
         if det == 0.0 || !det.is_finite() || det.abs() <= scale * 1e-12 {
             return Err(
                 "the transform is singular (a zero scale or a flattening matrix): it must be invertible"
