@@ -74,6 +74,18 @@ impl Hit {
         }
     }
 
+    /// The primitive's own part of the hit (what it reported).
+    #[inline]
+    #[must_use]
+    pub fn prim_hit(&self) -> PrimHit {
+        PrimHit {
+            t: self.t,
+            u: self.u,
+            v: self.v,
+            part: self.part,
+        }
+    }
+
     /// The tie rule every accelerator follows: a hit is better when it is
     /// nearer, and of two hits at the same `t` the lower primitive index wins.
     #[inline]

@@ -171,7 +171,7 @@ struct Builder<'a> {
     /// ([`scene_mesh::share_key`]): files named more than once are shared.
     mesh_uses: HashMap<String, u32>,
     /// Model files prepared for sharing, by canonical path and share key.
-    shared: HashMap<(PathBuf, String), SharedFile>,
+    shared: HashMap<(PathBuf, String), std::rc::Rc<SharedFile>>,
     /// Primitives so far (spheres, boxes, planes, triangles).
     primitives: u64,
     materials: Vec<Material>,

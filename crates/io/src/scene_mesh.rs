@@ -12,11 +12,12 @@ use glam::DMat4;
 use gridrt_tracer::{Geometry, MaterialId, Mesh, Object};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 use std::sync::Arc;
 
 /// A model file prepared for instancing: its meshes in the file's space,
-/// oriented and with the requested normals, shared by every placement.
-#[derive(Clone)]
+/// oriented and with the requested normals, shared by every placement
+/// (held by `Rc`, so that a placement does not copy the lists).
 pub(super) struct SharedFile {
     /// Each mesh, its file material and its place in the file.
     meshes: Vec<(Arc<Mesh>, Option<usize>, DMat4)>,
@@ -66,7 +67,7 @@ impl Builder<'_> {
         let key = share_key(file, d.normals);
         if self.mesh_uses.get(&key).is_some_and(|&n| n >= 2) {
             let shared = match self.shared.get(&(real.clone(), key.clone())) {
-                Some(s) => s.clone(),
+                Some(s) => Rc::clone(s),
                 None => {
                     let n = self.model(&shown, &real, &needle, what)?.primitive_count();
                     self.count_primitives(n as u64, what)?;
@@ -90,12 +91,12 @@ impl Builder<'_> {
                         .collect();
                     let (materials, textures) = (model.materials.clone(), model.textures.clone());
                     self.warnings.extend(model.warnings.iter().cloned());
-                    let s = SharedFile {
+                    let s = Rc::new(SharedFile {
                         meshes,
                         materials,
                         texture_offset: texture_load::append(&mut self.textures, &textures),
-                    };
-                    self.shared.insert((real, key), s.clone());
+                    });
+                    self.shared.insert((real, key), Rc::clone(&s));
                     s
                 }
             };

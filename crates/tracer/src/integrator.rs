@@ -519,8 +519,7 @@ where
                 // The accelerator's own storage (a grid's cell order) holds
                 // the primitive in `slot`; the per-primitive tables go by
                 // primitive index.
-                let sp =
-                    self.accel.primitives()[h.slot as usize].surface_of(ray, h.t, h.u, h.v, h.part);
+                let sp = self.accel.primitives()[h.slot as usize].surface(ray, &h.prim_hit());
                 let tri = self.mesh_triangle(&h);
                 let mut ns = sp.n;
                 // Keep the shading normal on the geometric front side.

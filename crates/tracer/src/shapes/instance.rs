@@ -163,23 +163,16 @@ impl Primitive for Instance {
 }
 
 impl Instance {
-    /// The world-space surface point of a hit on triangle `part` of the
+    /// The world-space surface point of a hit on triangle `h.part` of the
     /// mesh. Its error bound holds the object-space point's, carried
     /// through the map, plus the rounding of carrying a secondary ray's
     /// origin back into object space, so that rays leaving the point clear
     /// the triangle there too.
     #[inline]
-    pub(crate) fn surface_part(
-        &self,
-        ray: &Ray,
-        t: Real,
-        u: Real,
-        v: Real,
-        part: u32,
-    ) -> SurfacePoint {
+    pub(crate) fn surface_part(&self, ray: &Ray, h: &PrimHit) -> SurfacePoint {
         let m = &self.shared.mesh;
-        let p = m.triangles[part as usize].map(|k| m.positions[k as usize]);
-        let obj = Triangle::new(p[0], p[1], p[2]).surface(&self.object_ray(ray), t, u, v);
+        let p = m.triangles[h.part as usize].map(|k| m.positions[k as usize]);
+        let obj = Triangle::new(p[0], p[1], p[2]).surface(&self.object_ray(ray), h);
         let (p, mut p_err) = self.to_world.point_with_error(obj.p, obj.p_err);
         let abs = |a: &Affine| Affine {
             cols: a.cols.map(Vec3::abs),
@@ -230,7 +223,7 @@ mod tests {
         assert!((h.t - 5.0).abs() < 1e-5, "{h:?}");
         // (11, 1) is (0.5, 0.5) in object space: the second triangle.
         assert_eq!(h.part, 0);
-        let sp = inst.surface_part(&ray, h.t, h.u, h.v, h.part);
+        let sp = inst.surface_part(&ray, &h);
         assert!(
             (sp.p - Vec3::new(11.0, 1.0, -5.0)).abs().max_element()
                 <= sp.p_err.max_element() + 1e-5
@@ -251,7 +244,7 @@ mod tests {
         let inst = placed(mirror);
         let ray = Ray::new(Vec3::new(0.2, -0.5, 3.0), Vec3::new(0.0, 0.0, -1.0));
         let h = inst.closest_hit(&ray, 0.0, Real::INFINITY).unwrap();
-        let sp = inst.surface_part(&ray, h.t, h.u, h.v, h.part);
+        let sp = inst.surface_part(&ray, &h);
         // The quad faced +z; mirrored in z its front faces −z.
         assert!((sp.n + Vec3::Z).length() < 1e-6, "{:?}", sp.n);
         assert_eq!(h.part, 0);

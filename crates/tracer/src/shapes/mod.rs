@@ -39,16 +39,10 @@ pub(crate) struct SurfacePoint {
 
 /// What the renderer asks a primitive after the accelerator found a hit.
 pub(crate) trait Surface: Primitive {
-    /// The surface point of a hit this primitive reported (`t`, and its own
-    /// `u`, `v` from [`Primitive::closest_hit`]).
-    fn surface(&self, ray: &Ray, t: Real, u: Real, v: Real) -> SurfacePoint;
-
-    /// The surface point of a hit on part `part` of the primitive (the
-    /// triangle of an instance; simple primitives have one part).
-    #[inline]
-    fn surface_of(&self, ray: &Ray, t: Real, u: Real, v: Real, _part: u32) -> SurfacePoint {
-        self.surface(ray, t, u, v)
-    }
+    /// The surface point of a hit this primitive reported from
+    /// [`Primitive::closest_hit`] (`t`, its own `u`, `v`, and the part hit,
+    /// such as the triangle of an instance).
+    fn surface(&self, ray: &Ray, h: &PrimHit) -> SurfacePoint;
 
     /// The instance this primitive is, if it is one.
     #[inline]
@@ -124,21 +118,13 @@ impl Primitive for Shape {
 
 impl Surface for Shape {
     #[inline]
-    fn surface(&self, ray: &Ray, t: Real, u: Real, v: Real) -> SurfacePoint {
+    fn surface(&self, ray: &Ray, h: &PrimHit) -> SurfacePoint {
         match self {
-            Shape::Sphere(s) => s.surface(ray, t, u, v),
-            Shape::Cuboid(c) => c.surface(ray, t, u, v),
-            Shape::Triangle(tr) => tr.surface(ray, t, u, v),
-            Shape::MtTriangle(tr) => tr.surface(ray, t, u, v),
-            Shape::Instance(i) => i.surface_part(ray, t, u, v, 0),
-        }
-    }
-
-    #[inline]
-    fn surface_of(&self, ray: &Ray, t: Real, u: Real, v: Real, part: u32) -> SurfacePoint {
-        match self {
-            Shape::Instance(i) => i.surface_part(ray, t, u, v, part),
-            _ => self.surface(ray, t, u, v),
+            Shape::Sphere(s) => s.surface(ray, h),
+            Shape::Cuboid(c) => c.surface(ray, h),
+            Shape::Triangle(tr) => tr.surface(ray, h),
+            Shape::MtTriangle(tr) => tr.surface(ray, h),
+            Shape::Instance(i) => i.surface_part(ray, h),
         }
     }
 

@@ -289,7 +289,8 @@ impl Surface for Triangle {
     /// the origin this is about a third of pbrt-v4's γ(7)·Σ|bᵢ·pᵢ|, so
     /// secondary rays start within the rounding of the geometry.
     #[inline]
-    fn surface(&self, _ray: &Ray, _t: Real, u: Real, v: Real) -> SurfacePoint {
+    fn surface(&self, _ray: &Ray, h: &PrimHit) -> SurfacePoint {
+        let (u, v) = (h.u, h.v);
         let [p0, p1, p2] = self.vertices();
         let a = (p1 - p0) * u;
         let b = (p2 - p0) * v;
@@ -440,7 +441,7 @@ mod tests {
         let tri = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
         let r = ray([0.2, 0.3, 5.0], [0.0, 0.0, -1.0]);
         let h = tri.intersect(&r, 0.0, 10.0).unwrap();
-        let sp = tri.surface(&r, h.t, h.u, h.v);
+        let sp = tri.surface(&r, &h);
         assert_eq!(sp.n, Vec3::Z);
         assert!((sp.p - Vec3::new(0.2, 0.3, 0.0)).length() < 1e-6);
     }

@@ -89,8 +89,8 @@ impl Primitive for MtTriangle {
 
 impl Surface for MtTriangle {
     #[inline]
-    fn surface(&self, ray: &Ray, t: Real, u: Real, v: Real) -> SurfacePoint {
-        self.0.surface(ray, t, u, v)
+    fn surface(&self, ray: &Ray, h: &PrimHit) -> SurfacePoint {
+        self.0.surface(ray, h)
     }
 }
 
