@@ -16,6 +16,14 @@ camera at (0, 1, 3.9) looking at (0, 1, 0), vertical fov 40°, 256×256, box
 filter, path tracer. It prints the mean colour of each image, the RMSE
 between them, and as the noise floor the RMSE between two Mitsuba renders
 with different seeds; and the wall-clock and CPU time of each renderer.
+
+Mitsuba renders with its `independent` sampler (its default) and with its
+`multijitter` sampler (the family of gridrt's default, correlated
+multi-jittered sampling). With `--reference-spp N` it also renders a Mitsuba
+reference at N spp and prints each image's RMSE against it and the time
+each renderer would need for gridrt's error (time × (RMSE / gridrt's RMSE)²,
+as variance falls as 1/spp): the speed at equal quality, not only at equal
+samples.
 """
 
 import argparse
@@ -71,7 +79,7 @@ def read_obj(path):
     return np.array(verts, dtype=np.float64), groups
 
 
-def mitsuba_scene(mi, spp, seed):
+def mitsuba_scene(mi, spp, seed, sampler):
     mats = read_mtl(MTL)
     verts, groups = read_obj(OBJ)
     d = {
@@ -84,7 +92,7 @@ def mitsuba_scene(mi, spp, seed):
             "to_world": mi.ScalarTransform4f().look_at(
                 origin=[0, 1, 3.9], target=[0, 1, 0], up=[0, 1, 0]
             ),
-            "sampler": {"type": "independent", "sample_count": spp, "seed": seed},
+            "sampler": {"type": sampler, "sample_count": spp, "seed": seed},
             "film": {
                 "type": "hdrfilm",
                 "width": 256,
@@ -116,9 +124,9 @@ def mitsuba_scene(mi, spp, seed):
     return mi.load_dict(d)
 
 
-def render_mitsuba(mi, dr, spp, threads, seed):
+def render_mitsuba(mi, dr, spp, threads, seed, sampler="independent"):
     dr.set_thread_count(threads)
-    scene = mitsuba_scene(mi, spp, seed)
+    scene = mitsuba_scene(mi, spp, seed, sampler)
     t0, c0 = time.perf_counter(), time.process_time()
     img = mi.render(scene, spp=spp, seed=seed)
     arr = np.array(img, dtype=np.float64)[:, :, :3]
@@ -145,6 +153,8 @@ def main():
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--gridrt", default=os.path.join(ROOT, "target/release/gridrt"))
     ap.add_argument("--keep", help="folder for the images (default: a temporary one)")
+    ap.add_argument("--reference-spp", type=int, default=0,
+                    help="also render a Mitsuba reference at this many spp and compare errors")
     a = ap.parse_args()
 
     import drjit as dr
@@ -159,6 +169,7 @@ def main():
     ours = np.array(mi.Bitmap(ours_path), dtype=np.float64)[:, :, :3]
     mi1, t1 = render_mitsuba(mi, dr, a.spp, a.threads, seed=1)
     mi2, _ = render_mitsuba(mi, dr, a.spp, a.threads, seed=2)
+    mj, tj = render_mitsuba(mi, dr, a.spp, a.threads, seed=3, sampler="multijitter")
     mi.Bitmap(mi1.astype(np.float32)).write(os.path.join(folder, "mitsuba.exr"))
 
     def rmse(x, y):
@@ -182,7 +193,19 @@ def main():
     # On a shared machine wall time depends on the other load; CPU time
     # (all threads) is the steadier measure of work.
     print(f"time gridrt  {wall[0]:.3f} s wall, {wall[1]:.3f} s CPU (whole process; render {stats['render_time']:.3f} s wall)")
-    print(f"time mitsuba {t1[0]:.3f} s wall, {t1[1]:.3f} s CPU (mi.render only)")
+    print(f"time mitsuba {t1[0]:.3f} s wall, {t1[1]:.3f} s CPU (mi.render only, independent)")
+    print(f"time mitsuba {tj[0]:.3f} s wall, {tj[1]:.3f} s CPU (mi.render only, multijitter)")
+    print(f"CPU time ratio mitsuba / gridrt: {t1[1] / wall[1]:.3f} (independent), "
+          f"{tj[1] / wall[1]:.3f} (multijitter)")
+    if a.reference_spp:
+        ref, tr = render_mitsuba(mi, dr, a.reference_spp, a.threads, seed=4)
+        print(f"reference: Mitsuba, independent, {a.reference_spp} spp ({tr[1]:.1f} s CPU)")
+        e0 = rmse(ours, ref)
+        for name, img, cpu in [("gridrt", ours, wall[1]), ("mitsuba independent", mi1, t1[1]),
+                               ("mitsuba multijitter", mj, tj[1])]:
+            e = rmse(img, ref)
+            print(f"RMSE vs reference {name:20s} {e:.5f}; CPU time for gridrt's error "
+                  f"{cpu * (e / e0) ** 2:.3f} s")
     return 0
 
 

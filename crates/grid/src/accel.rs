@@ -159,6 +159,21 @@ pub trait Primitive: Sync {
             }
         }
     }
+
+    /// Whether any of `prims[r]`, `r` in `refs`, is hit with `t` in
+    /// `[t_min, t_max]` (a grid cell's shadow-ray work).
+    ///
+    /// The default calls [`any_hit`](Self::any_hit) one primitive at a time
+    /// and stops at the first hit; an override may reject several at once
+    /// ([`any_hits_prefiltered`]), but must give the same answer.
+    #[inline]
+    fn any_hits(prims: &[Self], refs: &[u32], ray: &Ray, t_min: Real, t_max: Real) -> bool
+    where
+        Self: Sized,
+    {
+        refs.iter()
+            .any(|&r| prims[r as usize].any_hit(ray, t_min, t_max))
+    }
 }
 
 /// A [`Primitive::closest_hits`] for primitives with a cheap test of four
@@ -229,6 +244,34 @@ pub fn closest_hits_prefiltered<P: Primitive>(
             }
         }
     }
+}
+
+/// A [`Primitive::any_hits`] for primitives with a cheap test of four at
+/// once: `may_hit` as in [`closest_hits_prefiltered`], and
+/// [`Primitive::any_hit`] for the primitives it lets through, until one is
+/// hit.
+#[inline(always)]
+pub fn any_hits_prefiltered<P: Primitive>(
+    prims: &[P],
+    refs: &[u32],
+    ray: &Ray,
+    t_min: Real,
+    t_max: Real,
+    mut may_hit: impl FnMut([&P; 4]) -> u32,
+) -> bool {
+    for chunk in refs.chunks(4) {
+        let n = chunk.len();
+        let four = std::array::from_fn(|k| &prims[chunk[k.min(n - 1)] as usize]);
+        let mut pass = may_hit(four) & ((1 << n) - 1);
+        while pass != 0 {
+            let k = pass.trailing_zeros() as usize;
+            pass &= pass - 1;
+            if four[k].any_hit(ray, t_min, t_max) {
+                return true;
+            }
+        }
+    }
+    false
 }
 
 /// A structure that answers ray queries over a set of primitives it owns.

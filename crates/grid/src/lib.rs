@@ -113,7 +113,9 @@ mod par;
 mod radix;
 mod table;
 
-pub use accel::{closest_hits_prefiltered, Accelerator, Hit, PrimHit, Primitive};
+pub use accel::{
+    any_hits_prefiltered, closest_hits_prefiltered, Accelerator, Hit, PrimHit, Primitive,
+};
 pub use config::{
     CellStorage, GridConfig, GridStats, AUTO_MEAN_FACTOR, AUTO_MIN_REFS, DEFAULT_BUDGET_FACTOR,
     MIN_BUDGET,

@@ -199,16 +199,23 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
     /// Tests references until one is hit.
     #[inline(always)]
     fn test_refs(&mut self, refs: &[u32]) -> ControlFlow<()> {
+        if !MB {
+            self.counters.tests(refs.len());
+            return if P::any_hits(self.prims, refs, self.ray, self.t_min, self.t_max) {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            };
+        }
+        // With the mailbox, one at a time: each reference's stamp decides.
         for &p in refs {
-            if MB {
-                // SAFETY: `GridScratch::begin` sized the stamps to the primitive count.
-                let s = unsafe { self.stamps.get_unchecked_mut(p as usize) };
-                if *s == self.stamp {
-                    self.counters.mailbox_skip();
-                    continue;
-                }
-                *s = self.stamp;
+            // SAFETY: `GridScratch::begin` sized the stamps to the primitive count.
+            let s = unsafe { self.stamps.get_unchecked_mut(p as usize) };
+            if *s == self.stamp {
+                self.counters.mailbox_skip();
+                continue;
             }
+            *s = self.stamp;
             self.counters.test();
             // SAFETY: every stored reference is a valid index into `prims`.
             let prim = unsafe { self.prims.get_unchecked(p as usize) };

@@ -23,8 +23,9 @@ pub use sphere::Sphere;
 pub use triangle::Triangle;
 pub use triangle_mt::{MtTriangle, MT_EPSILON};
 
+use gridrt_bbox::ShearLanes;
 use gridrt_bbox::{Aabb, Ray, Real, Vec3};
-use gridrt_grid::{PrimHit, Primitive};
+use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primitive};
 
 /// A surface point found by a ray, as shading and secondary rays need it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -104,6 +105,32 @@ impl Primitive for Shape {
         }
     }
 
+    /// Four at a time where all four are watertight triangles (see
+    /// [`Shape::may_hit`]).
+    #[inline]
+    fn closest_hits(
+        prims: &[Self],
+        refs: &[u32],
+        ray: &Ray,
+        t_min: Real,
+        t_max: Real,
+        keep: &mut impl FnMut(u32, PrimHit) -> Real,
+    ) {
+        let shear = ray.shear_lanes();
+        closest_hits_prefiltered(prims, refs, ray, t_min, t_max, keep, |four| {
+            Shape::may_hit(&shear, four)
+        });
+    }
+
+    /// Four at a time where all four are watertight triangles.
+    #[inline]
+    fn any_hits(prims: &[Self], refs: &[u32], ray: &Ray, t_min: Real, t_max: Real) -> bool {
+        let shear = ray.shear_lanes();
+        any_hits_prefiltered(prims, refs, ray, t_min, t_max, |four| {
+            Shape::may_hit(&shear, four)
+        })
+    }
+
     #[inline]
     fn overlaps_box(&self, cell: &Aabb) -> bool {
         match self {
@@ -112,6 +139,22 @@ impl Primitive for Shape {
             Shape::Triangle(t) => t.overlaps_box(cell),
             Shape::MtTriangle(t) => t.overlaps_box(cell),
             Shape::Instance(i) => i.overlaps_box(cell),
+        }
+    }
+}
+
+impl Shape {
+    /// Of four shapes, those a ray may hit (bit `k` for the `k`-th): when
+    /// all four are watertight triangles, their edge functions in lanes
+    /// reject most of a cell's triangles at once, as [`Triangle`]'s own
+    /// queries do; mixed chunks are all tested one shape at a time.
+    #[inline(always)]
+    fn may_hit(shear: &ShearLanes, four: [&Shape; 4]) -> u32 {
+        match four {
+            [Shape::Triangle(a), Shape::Triangle(b), Shape::Triangle(c), Shape::Triangle(d)] => {
+                shear.triangles_may_hit(|k| [a, b, c, d].map(|t| t.lanes(k)))
+            }
+            _ => 0b1111,
         }
     }
 }

@@ -1,7 +1,7 @@
 use super::{overlap, unit_or, Surface, SurfacePoint};
 use gridrt_bbox::math::Lanes;
 use gridrt_bbox::{gamma, Aabb, Ray, Real, Vec3};
-use gridrt_grid::{closest_hits_prefiltered, PrimHit, Primitive};
+use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primitive};
 
 /// A triangle given by its three vertices (counter-clockwise = front).
 ///
@@ -40,8 +40,10 @@ use gridrt_grid::{closest_hits_prefiltered, PrimHit, Primitive};
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
-    /// `x0 x1 x2 y0 y1 y2 z0 z1 z2 0`: every coordinate's three values
-    /// start a 4-lane load (the last one's fourth lane is the padding).
+    /// `x0 x1 x2 y0 y1 y2 z0 z1 z2 d`: every coordinate's three values
+    /// start a 4-lane load; the last one's fourth lane, `d`, is 1 for a
+    /// degenerate triangle and 0 otherwise, so that a hit need not
+    /// recompute the area.
     c: [Real; 10],
 }
 
@@ -49,10 +51,14 @@ impl Triangle {
     /// A triangle from its vertices.
     #[inline]
     #[must_use]
-    pub const fn new(p0: Vec3, p1: Vec3, p2: Vec3) -> Self {
-        Self {
+    pub fn new(p0: Vec3, p1: Vec3, p2: Vec3) -> Self {
+        let mut t = Self {
             c: [p0.x, p1.x, p2.x, p0.y, p1.y, p2.y, p0.z, p1.z, p2.z, 0.0],
+        };
+        if t.area_normal_f64() == glam::DVec3::ZERO {
+            t.c[9] = 1.0;
         }
+        t
     }
 
     /// The vertices `[p0, p1, p2]`.
@@ -97,13 +103,13 @@ impl Triangle {
     #[inline]
     #[must_use]
     pub fn is_degenerate(&self) -> bool {
-        self.area_normal_f64() == glam::DVec3::ZERO
+        self.c[9] != 0.0
     }
 
     /// Coordinate `k` of the three vertices in lanes 0..3 (lane 3 is
     /// another value, never used).
     #[inline(always)]
-    fn lanes(&self, k: usize) -> Lanes {
+    pub(super) fn lanes(&self, k: usize) -> Lanes {
         Lanes::from_slice(&self.c[3 * k..3 * k + 4])
     }
 
@@ -269,6 +275,16 @@ impl Primitive for Triangle {
         closest_hits_prefiltered(prims, refs, ray, t_min, t_max, keep, |four| {
             shear.triangles_may_hit(|k| four.map(|t| t.lanes(k)))
         });
+    }
+
+    /// Four triangles at a time, rejected by their edge functions in lanes
+    /// as in `closest_hits`.
+    #[inline]
+    fn any_hits(prims: &[Self], refs: &[u32], ray: &Ray, t_min: Real, t_max: Real) -> bool {
+        let shear = ray.shear_lanes();
+        any_hits_prefiltered(prims, refs, ray, t_min, t_max, |four| {
+            shear.triangles_may_hit(|k| four.map(|t| t.lanes(k)))
+        })
     }
 
     /// The separating-axis test of Akenine-Möller (2001), with a rounding
