@@ -334,12 +334,6 @@ impl<'a> Builder<'a> {
                 }
             }
         }
-        if lights.is_empty() {
-            self.warnings.push(format!(
-                "{}: the scene has no lights: only emissive objects will light it (path tracing) or show (Whitted)",
-                self.path.display()
-            ));
-        }
         let (camera, framed) = match &file.camera {
             Some(c) => (self.camera(c)?, false),
             None => {

@@ -17,6 +17,8 @@ pub enum Where {
     Object(usize),
     /// A field of the settings, by its scene-file name.
     Setting(&'static str),
+    /// The scene as a whole.
+    Scene,
 }
 
 /// A request of a scene that has no effect on the image, and why.
@@ -43,7 +45,9 @@ pub struct Ignored {
 /// - `max_depth: 0` with mirrors, glass or metals in use: every ray ends
 ///   at its first hit, so they show no reflection or refraction;
 /// - a reconstruction filter at 1 sample per pixel, where the sample goes
-///   through the pixel centre and no filter weight is computed.
+///   through the pixel centre and no filter weight is computed;
+/// - objects with neither a light nor an emissive object to light them:
+///   their materials are never seen, only black (and the background).
 #[must_use]
 pub fn ignored_effects(scene: &Scene) -> Vec<Ignored> {
     let plan = EffectPlan::for_scene(scene);
@@ -77,6 +81,11 @@ pub fn ignored_effects(scene: &Scene) -> Vec<Ignored> {
             _ => {}
         }
     }
+    let emissive = |o: &crate::scene::Object| {
+        scene.materials.get(o.material as usize).is_some_and(
+            |m| matches!(*m, Material::Emissive { color, strength } if color * strength != Rgb::ZERO),
+        )
+    };
     if !path {
         for (i, o) in scene.objects.iter().enumerate() {
             let kind = match o.geometry {
@@ -84,11 +93,7 @@ pub fn ignored_effects(scene: &Scene) -> Vec<Ignored> {
                 Geometry::Plane { .. } => "Plane",
                 _ => continue,
             };
-            if scene
-                .materials
-                .get(o.material as usize)
-                .is_some_and(|m| matches!(*m, Material::Emissive { color, strength } if color * strength != Rgb::ZERO))
-            {
+            if emissive(o) {
                 say(Where::Object(i), format!("an emissive {kind} glows but is not sampled as a light, so the Whitted tracer lights nothing with it: use a Rect or Disk light, an emissive Sphere or Mesh, or `integrator: Path`"));
             }
         }
@@ -100,6 +105,9 @@ pub fn ignored_effects(scene: &Scene) -> Vec<Ignored> {
     };
     if depth == 0 && crate::plan::uses_secondary_rays(scene) {
         say(Where::Setting("max_depth"), "`max_depth: 0` ends every ray at its first hit, so mirrors, glass and metals in use show no reflection or refraction (glass is black): raise max_depth".into());
+    }
+    if scene.lights.is_empty() && !scene.objects.is_empty() && !scene.objects.iter().any(emissive) {
+        say(Where::Scene, "nothing lights the objects (no light and no emissive object), so they render black against the background: add a light or an Emissive material".into());
     }
     if scene.settings.spp == 1 && scene.settings.filter != Filter::Box {
         say(Where::Setting("filter"), format!("at 1 sample per pixel the sample goes through the pixel centre, so the {} filter is not used: raise spp (or `--spp`) for filtered antialiasing", scene.settings.filter.describe()));
@@ -263,6 +271,30 @@ mod tests {
         };
         assert_eq!(ats(&s), vec![Where::Setting("filter")]);
         s.settings.spp = 4;
+        assert_eq!(ats(&s), vec![]);
+    }
+
+    #[test]
+    fn objects_nothing_lights_are_named_but_emitters_light_them() {
+        let glow = Material::Emissive {
+            color: Rgb::ONE,
+            strength: 2.0,
+        };
+        let mut s = scene(vec![matte(0.2), glow], vec![]);
+        for integrator in [IntegratorChoice::Whitted, IntegratorChoice::Path] {
+            s.settings.integrator = integrator;
+            s.objects[0].material = 0;
+            assert_eq!(ats(&s), vec![Where::Scene]);
+            // An emissive sphere lights the scene (the lamp of a Cornell box).
+            s.objects[0].material = 1;
+            assert_eq!(ats(&s), vec![]);
+        }
+        // A light, or nothing to light, leaves nothing to say.
+        s.objects[0].material = 0;
+        s.lights = vec![point()];
+        assert_eq!(ats(&s), vec![]);
+        s.lights.clear();
+        s.objects.clear();
         assert_eq!(ats(&s), vec![]);
     }
 }
