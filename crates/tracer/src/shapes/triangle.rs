@@ -497,6 +497,50 @@ mod tests {
                 hits
             };
             proptest::prop_assert_eq!(all(true), all(false));
+            // Shadow rays: the batched any-hit answers as one at a time,
+            // over the segment up to each hit and beyond.
+            for t_max in [Real::INFINITY, 5.0, 4.5] {
+                let one = tris.iter().any(|t| t.any_hit(&r, 0.0, t_max));
+                proptest::prop_assert_eq!(Triangle::any_hits(&tris, &refs, &r, 0.0, t_max), one);
+            }
+        }
+
+        /// Through the `Shape` enum, with spheres mixed in so that some
+        /// chunks of four hold only triangles and others do not, the
+        /// batched queries answer as the shapes one at a time.
+        #[test]
+        fn shapes_four_at_a_time_equal_one_at_a_time(
+            corners in proptest::collection::vec(proptest::array::uniform3(0usize..18), 1..14),
+            spheres in proptest::collection::vec(0usize..14, 0..3),
+            o in proptest::array::uniform3(-4i32..=4),
+            through in proptest::array::uniform3(-2i32..=2),
+        ) {
+            use crate::shapes::{Shape, Sphere};
+            let p = |i: usize| Vec3::new((i % 3) as Real - 1.0, ((i / 3) % 3) as Real - 1.0, (i / 9) as Real);
+            let mut shapes: Vec<Shape> = corners.iter().map(|c| Shape::Triangle(Triangle::new(p(c[0]), p(c[1]), p(c[2])))).collect();
+            for &k in &spheres {
+                let at = k.min(shapes.len());
+                shapes.insert(at, Shape::Sphere(Sphere::new(p(k % 18), 0.4)));
+            }
+            let refs: Vec<u32> = (0..shapes.len() as u32).collect();
+            let origin = Vec3::new(o[0] as Real, o[1] as Real, o[2] as Real + 5.0);
+            let target = Vec3::new(through[0] as Real, through[1] as Real, through[2] as Real) * 0.5;
+            let r = Ray::new(origin, target - origin);
+            let mut batched = Vec::new();
+            Shape::closest_hits(&shapes, &refs, &r, 0.0, Real::INFINITY, &mut |i, h| {
+                batched.push((i, h));
+                Real::INFINITY
+            });
+            let one: Vec<(u32, PrimHit)> = shapes
+                .iter()
+                .enumerate()
+                .filter_map(|(i, s)| s.closest_hit(&r, 0.0, Real::INFINITY).map(|h| (i as u32, h)))
+                .collect();
+            proptest::prop_assert_eq!(batched, one);
+            for t_max in [Real::INFINITY, 5.0, 4.5] {
+                let one = shapes.iter().any(|s| s.any_hit(&r, 0.0, t_max));
+                proptest::prop_assert_eq!(Shape::any_hits(&shapes, &refs, &r, 0.0, t_max), one);
+            }
         }
     }
 }
