@@ -84,18 +84,23 @@ impl Normals {
     }
 }
 
+/// The cache of [`applied_once`]: by the source mesh's address, the source
+/// (held, so that its address is not reused while the cache lives) and the
+/// mesh with the normals applied.
+pub(crate) type AppliedCache =
+    std::collections::HashMap<*const Mesh, (std::sync::Arc<Mesh>, std::sync::Arc<Mesh>)>;
+
 /// `mesh` with `normals` applied, once per shared mesh (`cache` by the
 /// mesh's address), so that placements still share one copy.
 pub(crate) fn applied_once(
-    cache: &mut std::collections::HashMap<*const Mesh, std::sync::Arc<Mesh>>,
+    cache: &mut AppliedCache,
     mesh: &std::sync::Arc<Mesh>,
     normals: Normals,
 ) -> std::sync::Arc<Mesh> {
-    std::sync::Arc::clone(
-        cache
-            .entry(std::sync::Arc::as_ptr(mesh))
-            .or_insert_with(|| normals.applied(mesh)),
-    )
+    let (_, applied) = cache
+        .entry(std::sync::Arc::as_ptr(mesh))
+        .or_insert_with(|| (std::sync::Arc::clone(mesh), normals.applied(mesh)));
+    std::sync::Arc::clone(applied)
 }
 
 /// Corners around one position beyond which the crease test, which is
