@@ -118,7 +118,7 @@ pub fn scene_from_model(model: Model) -> LoadedScene {
                     mesh: model::applied_once(&mut once, &mm.mesh, smooth),
                     to_world: Box::new(model::affine(&p)),
                 },
-                None => Geometry::Mesh(Box::new(smoothed(mm))),
+                None => Geometry::Mesh(std::sync::Arc::new(smoothed(mm))),
             },
         })
         .collect();

@@ -160,7 +160,7 @@ impl Builder<'_> {
                 None => {
                     let mut mesh = mm.oriented();
                     d.normals.apply(&mut mesh);
-                    Geometry::Mesh(Box::new(mesh))
+                    Geometry::Mesh(Arc::new(mesh))
                 }
             };
             self.objects.push(Object {
