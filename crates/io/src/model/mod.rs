@@ -482,4 +482,28 @@ mod tests {
             assert!(r.is_err());
         }
     }
+
+    #[test]
+    fn oriented_moves_a_mesh_it_holds_alone_and_copies_a_shared_one() {
+        let placed = |mesh: Arc<Mesh>, mirrored| ModelMesh {
+            mesh,
+            material: None,
+            mirrored,
+            placement: None,
+        };
+        for mirrored in [false, true] {
+            let mesh = Arc::new(tri_mesh());
+            let ptrs = (mesh.positions.as_ptr(), mesh.triangles.as_ptr());
+            let m = placed(mesh, mirrored).oriented();
+            // Held alone: the same arrays, the winding swapped in place.
+            assert_eq!((m.positions.as_ptr(), m.triangles.as_ptr()), ptrs);
+            let want = if mirrored { [0, 2, 1] } else { [0, 1, 2] };
+            assert_eq!(m.triangles, vec![want]);
+        }
+        // Shared: a copy, and the other holder's mesh is left as it was.
+        let mesh = Arc::new(tri_mesh());
+        let m = placed(Arc::clone(&mesh), true).oriented();
+        assert_ne!(m.triangles.as_ptr(), mesh.triangles.as_ptr());
+        assert_eq!((m.triangles[0], mesh.triangles[0]), ([0, 2, 1], [0, 1, 2]));
+    }
 }
