@@ -477,7 +477,7 @@ fn small_mesh_vertices(model: &gridrt_io::Model, off: Vec3) -> Vec<Vec3> {
     model
         .meshes
         .iter()
-        .map(|m| m.oriented())
+        .map(|m| &*m.mesh)
         .filter(|m| {
             let b = m
                 .positions
@@ -485,7 +485,7 @@ fn small_mesh_vertices(model: &gridrt_io::Model, off: Vec3) -> Vec<Vec3> {
                 .fold(gridrt_bbox::Aabb::EMPTY, |b, p| b.grow(*p));
             (b.max - b.min).length() < 0.01 * big
         })
-        .flat_map(|m| m.positions.into_iter().map(move |p| p + off))
+        .flat_map(|m| m.positions.iter().map(move |&p| p + off))
         .collect()
 }
 

@@ -39,7 +39,7 @@ pub fn frame(bounds: Aabb, vfov_deg: f64, aspect: f64) -> Camera {
 
 /// A model's mesh as rendered on its own: oriented, and smooth where the
 /// file has no normals (crease angle [`model::DEFAULT_CREASE_DEG`]).
-fn smoothed(mm: &model::ModelMesh) -> gridrt_tracer::Mesh {
+fn smoothed(mm: model::ModelMesh) -> gridrt_tracer::Mesh {
     let mut mesh = mm.oriented();
     model::Normals::Smooth(model::Crease(model::DEFAULT_CREASE_DEG)).apply(&mut mesh);
     mesh
@@ -59,38 +59,6 @@ const MODEL_SPP: u32 = 9;
 /// file's materials, 640×480 (or the file camera's aspect ratio), 1 spp.
 #[must_use]
 pub fn scene_from_model(model: Model) -> LoadedScene {
-    let mut materials: Vec<Material> = model.materials.iter().map(|m| m.material.clone()).collect();
-    let default_id = materials.len() as MaterialId;
-    let mut need_default = false;
-    let mut material_of = |k: Option<usize>| {
-        k.map_or_else(
-            || {
-                need_default = true;
-                default_id
-            },
-            |k| k as MaterialId,
-        )
-    };
-    // Shared meshes are smoothed once each, then placed.
-    let smooth = model::Normals::Smooth(model::Crease(model::DEFAULT_CREASE_DEG));
-    let mut once = std::collections::HashMap::new();
-    let objects: Vec<Object> = model
-        .meshes
-        .iter()
-        .map(|mm| Object {
-            geometry: match mm.placement {
-                Some(p) => Geometry::Instance {
-                    mesh: model::applied_once(&mut once, &mm.mesh, smooth),
-                    to_world: Box::new(model::affine(&p)),
-                },
-                None => Geometry::Mesh(Box::new(smoothed(mm))),
-            },
-            material: material_of(mm.material),
-        })
-        .collect();
-    if need_default {
-        materials.push(model::default_material());
-    }
     let (width, height) = match model.cameras.first().and_then(|c| c.aspect) {
         Some(a) if a >= 1.0 => (
             MODEL_WIDTH,
@@ -115,14 +83,56 @@ pub fn scene_from_model(model: Model) -> LoadedScene {
         (None, Some(open)) => model_view::room_camera(bounds, open, aspect),
         (None, None) => frame(bounds, 40.0, aspect),
     };
-    let lights = if !model.lights.is_empty() {
-        model.lights.clone()
+    // The model is taken apart from here on: its meshes are moved into the
+    // scene, not copied.
+    let Model {
+        path,
+        meshes,
+        materials: named,
+        cameras,
+        lights,
+        textures,
+        warnings,
+    } = model;
+    let mut materials: Vec<Material> = named.iter().map(|m| m.material.clone()).collect();
+    let default_id = materials.len() as MaterialId;
+    let mut need_default = false;
+    let mut material_of = |k: Option<usize>| {
+        k.map_or_else(
+            || {
+                need_default = true;
+                default_id
+            },
+            |k| k as MaterialId,
+        )
+    };
+    // Shared meshes are smoothed once each, then placed.
+    let smooth = model::Normals::Smooth(model::Crease(model::DEFAULT_CREASE_DEG));
+    let mut once = model::AppliedCache::new();
+    let mut objects: Vec<Object> = meshes
+        .into_iter()
+        .map(|mm| Object {
+            material: material_of(mm.material),
+            geometry: match mm.placement {
+                Some(p) => Geometry::Instance {
+                    mesh: model::applied_once(&mut once, &mm.mesh, smooth),
+                    to_world: Box::new(model::affine(&p)),
+                },
+                None => Geometry::Mesh(std::sync::Arc::new(smoothed(mm))),
+            },
+        })
+        .collect();
+    drop(once);
+    if need_default {
+        materials.push(model::default_material());
+    }
+    let lights = if !lights.is_empty() {
+        lights
     } else if room.is_some() {
         model_view::room_lights(bounds)
     } else {
         model_view::object_lights(&camera)
     };
-    let mut objects = objects;
     if framed && room.is_none() {
         let (point, ground) = model_view::ground(bounds);
         objects.push(Object {
@@ -136,8 +146,8 @@ pub fn scene_from_model(model: Model) -> LoadedScene {
     }
     // The model's materials keep their indices: their maps do too.
     let textures = Textures {
-        list: model.textures.clone(),
-        maps: model.materials.iter().map(|m| m.maps.clone()).collect(),
+        list: textures,
+        maps: named.into_iter().map(|m| m.maps).collect(),
     };
     LoadedScene {
         scene: Scene {
@@ -155,14 +165,10 @@ pub fn scene_from_model(model: Model) -> LoadedScene {
             lights,
             objects,
         },
-        source: model.path.clone(),
-        warnings: model.warnings,
+        source: path,
+        warnings,
         framed_camera: framed,
-        cameras: model
-            .cameras
-            .into_iter()
-            .map(|c| (c.name, c.camera))
-            .collect(),
+        cameras: cameras.into_iter().map(|c| (c.name, c.camera)).collect(),
     }
 }
 

@@ -35,17 +35,16 @@ pub(crate) fn room_opening(model: &Model) -> Option<DVec3> {
         return None;
     }
     let c = model.bounds().centroid();
-    let tris: Vec<Triangle> = model
-        .triangles()
-        .map(|[a, b, d]| Triangle::new(a, b, d))
-        .collect();
     // The first face met along `dir`: `Some(true)` when it faces the
-    // centre (counter-clockwise seen from it), `None` for no face.
+    // centre (counter-clockwise seen from it), `None` for no face. The
+    // triangles are made as they are tested, not kept: a model of a
+    // million would take 40 MB.
     let first = |dir: DVec3| {
         let d = to_vec3(dir);
         let ray = Ray::new(c, d);
-        let mut best: Option<(Real, &Triangle)> = None;
-        for t in &tris {
+        let mut best: Option<(Real, Triangle)> = None;
+        for [a, b, e] in model.triangles() {
+            let t = Triangle::new(a, b, e);
             let far = best.map_or(Real::INFINITY, |b| b.0);
             if let Some(h) = t.intersect(&ray, 0.0, far) {
                 best = Some((h.t, t));

@@ -170,6 +170,9 @@ struct Builder<'a> {
     /// How many `Mesh` objects name each file with each normals setting
     /// ([`scene_mesh::share_key`]): files named more than once are shared.
     mesh_uses: HashMap<String, u32>,
+    /// How many `Mesh` objects not yet converted name each file (as
+    /// written): the last one takes its model out of `models`.
+    file_uses: HashMap<String, u32>,
     /// Model files prepared for sharing, by canonical path and share key.
     shared: HashMap<(PathBuf, String), std::rc::Rc<SharedFile>>,
     /// Primitives so far (spheres, boxes, planes, triangles).
@@ -194,6 +197,7 @@ impl<'a> Builder<'a> {
             current: None,
             models: HashMap::new(),
             mesh_uses: HashMap::new(),
+            file_uses: HashMap::new(),
             shared: HashMap::new(),
             primitives: 0,
             materials: Vec::new(),
@@ -294,6 +298,7 @@ impl<'a> Builder<'a> {
                     .mesh_uses
                     .entry(scene_mesh::share_key(file, *normals))
                     .or_default() += 1;
+                *self.file_uses.entry(file.clone()).or_default() += 1;
             }
         }
         for (i, obj) in file.objects.iter().enumerate() {

@@ -10,7 +10,6 @@ use crate::scene_transform::transform_matrix;
 use crate::schema::{self, TransformDesc};
 use glam::DMat4;
 use gridrt_tracer::{Geometry, MaterialId, Mesh, Object};
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 use std::sync::Arc;
@@ -64,6 +63,12 @@ impl Builder<'_> {
                 format!("transform of \"{file}\": {e}"),
             )
         };
+        // The last object that names the file may take its model out of
+        // the cache (its meshes are then moved, not copied).
+        let last = self.file_uses.get_mut(file).is_none_or(|n| {
+            *n = n.saturating_sub(1);
+            *n == 0
+        });
         let key = share_key(file, d.normals);
         if self.mesh_uses.get(&key).is_some_and(|&n| n >= 2) {
             let shared = match self.shared.get(&(real.clone(), key.clone())) {
@@ -72,7 +77,7 @@ impl Builder<'_> {
                     let n = self.model(&shown, &real, &needle, what)?.primitive_count();
                     self.count_primitives(n as u64, what)?;
                     let model = &self.models[&real];
-                    let mut cache = HashMap::new();
+                    let mut cache = model::AppliedCache::new();
                     let meshes = model
                         .meshes
                         .iter()
@@ -83,7 +88,7 @@ impl Builder<'_> {
                                 p,
                             ),
                             None => {
-                                let mut mesh = mm.oriented();
+                                let mut mesh = mm.clone().oriented();
                                 d.normals.apply(&mut mesh);
                                 (Arc::new(mesh), mm.material, DMat4::IDENTITY)
                             }
@@ -96,10 +101,13 @@ impl Builder<'_> {
                         materials,
                         texture_offset: texture_load::append(&mut self.textures, &textures),
                     });
-                    self.shared.insert((real, key), Rc::clone(&s));
+                    self.shared.insert((real.clone(), key), Rc::clone(&s));
                     s
                 }
             };
+            if last {
+                self.models.remove(&real);
+            }
             self.count_primitives(shared.meshes.len() as u64, what)?;
             model::Xform::new(&m).map_err(|e| transform_error(self, e))?;
             let mut fm = self.file_materials(what, d, &shared.materials, shared.texture_offset)?;
@@ -125,15 +133,24 @@ impl Builder<'_> {
             }
             return Ok(());
         }
-        let mut model = self.model(&shown, &real, &needle, what)?.clone();
+        self.model(&shown, &real, &needle, what)?;
+        let mut model = match self.models.remove(&real) {
+            Some(m) if last => m,
+            Some(m) => {
+                let copy = m.clone();
+                self.models.insert(real.clone(), m);
+                copy
+            }
+            None => self.model(&shown, &real, &needle, what)?.clone(),
+        };
         self.count_primitives(model.primitive_count() as u64, what)?;
         if !d.transform.is_empty() {
             model.transform(&m).map_err(|e| transform_error(self, e))?;
         }
         let offset = texture_load::append(&mut self.textures, &model.textures);
         let mut fm = self.file_materials(what, d, &model.materials, offset)?;
-        let mut cache = HashMap::new();
-        for mm in &model.meshes {
+        let mut cache = model::AppliedCache::new();
+        for mm in std::mem::take(&mut model.meshes) {
             let id = self.model_material(what, d, &mut fm, &model.materials, mm.material)?;
             let geometry = match mm.placement {
                 Some(p) => Geometry::Instance {
@@ -143,7 +160,7 @@ impl Builder<'_> {
                 None => {
                     let mut mesh = mm.oriented();
                     d.normals.apply(&mut mesh);
-                    Geometry::Mesh(Box::new(mesh))
+                    Geometry::Mesh(Arc::new(mesh))
                 }
             };
             self.objects.push(Object {

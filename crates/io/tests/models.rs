@@ -379,3 +379,31 @@ fn rooms_are_seen_from_inside_and_objects_stand_on_the_ground() {
     assert_eq!(object.scene.settings.spp, 9);
     assert_eq!(room.scene.settings.spp, 9);
 }
+
+#[test]
+fn a_gltf_mesh_placed_once_reaches_the_scene_without_copies() {
+    // One mesh on one node, with normals (so that nothing is recomputed):
+    // the arrays the loader made are the scene's, moved, not copied.
+    let m = load_model(&fixture("meshes/gltf_box/Box.glb")).unwrap();
+    assert_eq!(m.meshes.len(), 1);
+    let mm = &m.meshes[0];
+    assert!(!mm.mesh.normals.is_empty() && mm.placement.is_none());
+    assert_eq!(std::sync::Arc::strong_count(&mm.mesh), 1);
+    let ptrs = (
+        mm.mesh.positions.as_ptr(),
+        mm.mesh.normals.as_ptr(),
+        mm.mesh.triangles.as_ptr(),
+    );
+    let s = scene_from_model(m);
+    let Some(Geometry::Mesh(mesh)) = s.scene.objects.first().map(|o| &o.geometry) else {
+        panic!("the box is a mesh object");
+    };
+    assert_eq!(
+        (
+            mesh.positions.as_ptr(),
+            mesh.normals.as_ptr(),
+            mesh.triangles.as_ptr()
+        ),
+        ptrs
+    );
+}

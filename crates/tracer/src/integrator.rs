@@ -4,46 +4,15 @@
 
 use crate::emitters::Emitters;
 use crate::lights::{spot_falloff, AreaLight, Environment};
+pub(crate) use crate::mesh_shading::{MeshRef, MeshShading, PrimMeshes};
 use crate::plan::RayCounts;
 use crate::robustness::RayOffset;
 use crate::sampling::SampleStream;
 use crate::scene::{Material, Rgb};
 use crate::shapes::{Instance, Plane, Surface, SurfacePoint};
-use crate::texture::shade::{self, HitUv, TextureData, TriFrame};
+use crate::texture::shade::{self, HitUv, TextureData};
 use gridrt_bbox::{Ray, Real, Vec3};
 use gridrt_grid::{Accelerator, Hit};
-
-/// Per-vertex normals of a mesh, for smooth shading, and its texture
-/// coordinates with each triangle's texture frame, for texturing.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct MeshShading {
-    /// Empty (flat shading) or one per vertex.
-    pub normals: Vec<Vec3>,
-    /// Empty, or one albedo per vertex.
-    pub colors: Vec<Rgb>,
-    pub triangles: Vec<[u32; 3]>,
-    /// Empty (untextured) or one per vertex.
-    pub uvs: Vec<glam::Vec2>,
-    /// The second texture-coordinate set: empty, or one per vertex.
-    pub uvs1: Vec<glam::Vec2>,
-    /// One per triangle when `uvs` is not empty.
-    pub frames: Vec<TriFrame>,
-}
-
-/// Which mesh triangle a grid primitive is (`mesh == u32::MAX`: not a
-/// smooth-shaded triangle).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct MeshRef {
-    pub mesh: u32,
-    pub tri: u32,
-}
-
-impl MeshRef {
-    pub const NONE: Self = Self {
-        mesh: u32::MAX,
-        tri: 0,
-    };
-}
 
 /// A hit's mesh triangle with shading data: the mesh's tables, the
 /// triangle's vertex indices, and the instance that placed it (whose
@@ -169,8 +138,9 @@ pub(crate) struct SceneData {
     /// Empty, or one colour per primitive that replaces the albedo (`color`)
     /// of its Matte, Phong or Reflective material (a sphere set's colours).
     pub prim_albedo: PrimColors,
-    /// Empty when no mesh has normals; else one entry per primitive.
-    pub prim_mesh: Vec<MeshRef>,
+    /// Empty when no mesh has shading data; else which mesh triangle
+    /// each primitive is.
+    pub prim_mesh: PrimMeshes,
     pub meshes: Vec<MeshShading>,
     pub planes: Vec<Plane>,
     pub plane_material: Vec<u32>,
@@ -401,12 +371,12 @@ where
                 },
                 Some(inst),
             ),
-            None => (*self.data.prim_mesh.get(h.prim as usize)?, None),
+            None => (self.data.prim_mesh.get(h.prim)?, None),
         };
         let mesh = self.data.meshes.get(m.mesh as usize)?;
         Some(MeshTriangle {
             mesh,
-            corners: mesh.triangles[m.tri as usize],
+            corners: *mesh.triangles().get(m.tri as usize)?,
             tri: m.tri,
             instance,
         })
@@ -424,11 +394,11 @@ where
         let at = |set: &[glam::Vec2]| {
             set[a as usize] * (1.0 - u - v) + set[b as usize] * u + set[c as usize] * v
         };
-        let uv = at(&mesh.uvs);
-        let uv1 = if mesh.uvs1.is_empty() {
+        let uv = at(mesh.uvs());
+        let uv1 = if mesh.uvs1().is_empty() {
             uv
         } else {
-            at(&mesh.uvs1)
+            at(mesh.uvs1())
         };
         if let Some(inst) = t.instance {
             frame = inst.frame_to_world(frame);
@@ -443,7 +413,7 @@ where
     /// triangle, when its mesh has colours.
     #[inline]
     fn vertex_color(t: &MeshTriangle, u: Real, v: Real) -> Option<Rgb> {
-        let colors = &t.mesh.colors;
+        let colors = t.mesh.colors();
         if colors.is_empty() {
             return None;
         }
@@ -458,7 +428,7 @@ where
     /// normals.
     #[inline]
     fn vertex_normal(t: &MeshTriangle, u: Real, v: Real) -> Option<Vec3> {
-        let normals = &t.mesh.normals;
+        let normals = t.mesh.normals();
         if normals.is_empty() {
             return None;
         }

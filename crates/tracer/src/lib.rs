@@ -82,6 +82,7 @@ mod ignored;
 mod instancing;
 mod integrator;
 mod lights;
+mod mesh_shading;
 mod occlusion;
 pub mod offset_scenes;
 pub mod optics;

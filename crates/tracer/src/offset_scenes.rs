@@ -102,7 +102,7 @@ pub fn shadow_scene(scale: Real, offset: Real) -> Scene {
     cube.triangles.push([base, base + 1, base + 2]);
     cube.triangles.push([base, base + 2, base + 3]);
     s.objects.push(Object {
-        geometry: Geometry::Mesh(Box::new(cube)),
+        geometry: Geometry::Mesh(std::sync::Arc::new(cube)),
         material: 0,
     });
     s.lights = vec![
@@ -138,7 +138,7 @@ pub fn table_scene(scale: Real, offset: Real) -> Scene {
         ..Mesh::default()
     };
     s.objects.push(Object {
-        geometry: Geometry::Mesh(Box::new(top)),
+        geometry: Geometry::Mesh(std::sync::Arc::new(top)),
         material: 0,
     });
     s.lights = vec![sun(Vec3::new(0.2, 1.0, 0.1), 2.0)];
@@ -176,7 +176,7 @@ pub fn mirror_scene(scale: Real, offset: Real) -> Scene {
         ..Mesh::default()
     };
     s.objects.push(Object {
-        geometry: Geometry::Mesh(Box::new(quad)),
+        geometry: Geometry::Mesh(std::sync::Arc::new(quad)),
         material: mirror,
     });
     s.objects.push(Object {

@@ -10,7 +10,7 @@ use crate::lights::{AreaLight, Environment};
 use crate::plan::{EffectPlan, IntegratorKind};
 use crate::scene::{Geometry, Light, Material, Mesh, Rgb, Scene, SphereSet};
 use crate::shapes::{Cuboid, Instance, MeshGrid, Plane, Shape, Sphere, Triangle};
-use crate::texture::shade::{TextureData, TriFrame};
+use crate::texture::shade::TextureData;
 use crate::validate::validate;
 use gridrt_bbox::{Real, Vec3};
 use gridrt_grid::GridConfig;
@@ -317,32 +317,6 @@ fn add_emitter(data: &mut SceneData, prim: usize, shape: &Shape, material: u32) 
     data.emitters.push(prim, shape, radiance);
 }
 
-/// A mesh's shading data: its normals, and its texture coordinates with
-/// each triangle's texture frame when `uvs`.
-fn mesh_shading(m: &crate::scene::Mesh, uvs: bool) -> MeshShading {
-    let (uv, frames) = if uvs {
-        let frames = m
-            .triangles
-            .iter()
-            .map(|t| {
-                let p = t.map(|k| m.positions[k as usize]);
-                TriFrame::new(p, t.map(|k| m.uvs[k as usize]))
-            })
-            .collect();
-        (m.uvs.clone(), frames)
-    } else {
-        (Vec::new(), Vec::new())
-    };
-    MeshShading {
-        normals: m.normals.clone(),
-        colors: m.colors.clone(),
-        triangles: m.triangles.clone(),
-        uvs1: if uvs { m.uvs1.clone() } else { Vec::new() },
-        uvs: uv,
-        frames,
-    }
-}
-
 /// Fills `data` with the primitives' materials and returns the primitives:
 /// each object's in turn (a sphere set's in the set's order, a mesh's in
 /// triangle order without the degenerate ones).
@@ -407,23 +381,23 @@ fn convert(
     }
     // The tables of `n` primitives of `material`, with `colors` (empty, or
     // one per primitive).
-    let mut record = |material: u32, n: usize, colors: &[Rgb], data: &mut SceneData| {
-        if uniform.is_none() {
-            per_prim.resize(per_prim.len() + n, material);
-        }
-        if colored {
-            if colors.is_empty() {
-                let a = albedo(&data.materials[material as usize]);
-                albedos.resize(albedos.len() + n, a);
-            } else {
-                albedos.extend_from_slice(colors);
+    let mut record =
+        |material: u32, n: usize, colors: &[Rgb], mesh: MeshRef, data: &mut SceneData| {
+            if uniform.is_none() {
+                per_prim.resize(per_prim.len() + n, material);
             }
-        }
-        if smooth {
-            data.prim_mesh
-                .resize(data.prim_mesh.len() + n, MeshRef::NONE);
-        }
-    };
+            if colored {
+                if colors.is_empty() {
+                    let a = albedo(&data.materials[material as usize]);
+                    albedos.resize(albedos.len() + n, a);
+                } else {
+                    albedos.extend_from_slice(colors);
+                }
+            }
+            if smooth {
+                data.prim_mesh.extend(n, mesh);
+            }
+        };
     for o in &scene.objects {
         if let Geometry::Plane { point, normal } = o.geometry {
             data.planes.push(Plane::new(point, normal));
@@ -458,11 +432,17 @@ fn convert(
             match &o.geometry {
                 Geometry::Sphere { center, radius } => {
                     spheres.push(Sphere::new(*center, *radius));
-                    record(o.material, 1, &[], data);
+                    record(o.material, 1, &[], MeshRef::NONE, data);
                 }
                 Geometry::Spheres(set) => {
                     spheres.extend_from_slice(&set.spheres);
-                    record(o.material, set.spheres.len(), &set.colors, data);
+                    record(
+                        o.material,
+                        set.spheres.len(),
+                        &set.colors,
+                        MeshRef::NONE,
+                        data,
+                    );
                 }
                 _ => {}
             }
@@ -480,22 +460,28 @@ fn convert(
             let first = shapes.len();
             let flat = match &o.geometry {
                 Geometry::Instance { mesh, to_world } if !instancing.shared.keeps(scene, o) => {
-                    flattened(mesh, to_world)
+                    flattened(mesh, to_world).map(Arc::new)
                 }
                 _ => None,
             };
             match &o.geometry {
                 Geometry::Sphere { center, radius } => {
                     shapes.push(Sphere::new(*center, *radius).into());
-                    record(o.material, 1, &[], data);
+                    record(o.material, 1, &[], MeshRef::NONE, data);
                 }
                 Geometry::Spheres(set) => {
                     shapes.extend(set.spheres.iter().map(|&sp| Shape::from(sp)));
-                    record(o.material, set.spheres.len(), &set.colors, data);
+                    record(
+                        o.material,
+                        set.spheres.len(),
+                        &set.colors,
+                        MeshRef::NONE,
+                        data,
+                    );
                 }
                 Geometry::Cuboid { min, max } => {
                     shapes.push(Cuboid::new(*min, *max).into());
-                    record(o.material, 1, &[], data);
+                    record(o.material, 1, &[], MeshRef::NONE, data);
                 }
                 Geometry::Plane { .. } => {}
                 Geometry::Mesh(_) => {}
@@ -508,7 +494,7 @@ fn convert(
                                     if mesh.normals.is_empty() && mesh.colors.is_empty() && !uvs {
                                         u32::MAX
                                     } else {
-                                        data.meshes.push(mesh_shading(mesh, uvs));
+                                        data.meshes.push(MeshShading::new(Arc::clone(mesh), uvs));
                                         (data.meshes.len() - 1) as u32
                                     };
                                 Arc::new(MeshGrid::new(
@@ -520,13 +506,13 @@ fn convert(
                         if let Some(inst) = Instance::new(grid, **to_world) {
                             shapes.push(Shape::Instance(Arc::new(inst)));
                             stats.instances += 1;
-                            record(o.material, 1, &[], data);
+                            record(o.material, 1, &[], MeshRef::NONE, data);
                         }
                     }
                 }
             }
             let mesh = match &o.geometry {
-                Geometry::Mesh(m) => Some(&**m),
+                Geometry::Mesh(m) => Some(m),
                 _ => flat.as_ref(),
             };
             if let Some(m) = mesh {
@@ -534,7 +520,8 @@ fn convert(
                 let mesh_id = if m.normals.is_empty() && m.colors.is_empty() && !uvs {
                     u32::MAX
                 } else {
-                    data.meshes.push(mesh_shading(m, uvs));
+                    // The mesh's arrays are shared, not copied.
+                    data.meshes.push(MeshShading::new(Arc::clone(m), uvs));
                     (data.meshes.len() - 1) as u32
                 };
                 for (t, &[a, b, c]) in m.triangles.iter().enumerate() {
@@ -544,15 +531,11 @@ fn convert(
                         continue;
                     }
                     shapes.push(Shape::from(tri));
-                    record(o.material, 1, &[], data);
-                    if smooth {
-                        if let Some(last) = data.prim_mesh.last_mut() {
-                            *last = MeshRef {
-                                mesh: mesh_id,
-                                tri: t as u32,
-                            };
-                        }
-                    }
+                    let r = MeshRef {
+                        mesh: mesh_id,
+                        tri: t as u32,
+                    };
+                    record(o.material, 1, &[], r, data);
                 }
             }
             if sample_lights {
@@ -654,5 +637,43 @@ mod tests {
         assert!(p.data.prim_albedo.is_empty());
         assert!(matches!(p.data.prim_material, PrimMaterials::Uniform(0)));
         assert_eq!(p.prims.len(), 4);
+    }
+
+    #[test]
+    fn shading_reads_the_scenes_mesh_arrays_without_copies() {
+        // Two triangles of a quad, smooth-shaded, and one degenerate one
+        // between them (left out of the grid).
+        let mesh = Arc::new(Mesh {
+            name: "quad".into(),
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],
+            normals: vec![Vec3::Z; 4],
+            triangles: vec![[0, 1, 2], [0, 0, 1], [0, 2, 3]],
+            ..Mesh::default()
+        });
+        let mut scene = suffern::scene(0);
+        scene.objects.push(Object {
+            geometry: Geometry::Sphere {
+                center: Vec3::new(5.0, 0.0, 0.0),
+                radius: 1.0,
+            },
+            material: 0,
+        });
+        scene.objects.push(Object {
+            geometry: Geometry::Mesh(Arc::clone(&mesh)),
+            material: 0,
+        });
+        let p = prepare(&scene, Some(&GridConfig::default())).unwrap();
+        let shading = &p.data.meshes[0];
+        assert_eq!(shading.normals().as_ptr(), mesh.normals.as_ptr());
+        assert_eq!(shading.triangles().as_ptr(), mesh.triangles.as_ptr());
+        // The scene's, the test's and the shading's references.
+        assert_eq!(Arc::strong_count(&mesh), 3);
+        // Primitive 0 is the sphere; 1 and 2 the quad's triangles 0 and 2.
+        assert_eq!(p.prims.len(), 3);
+        let at = |prim| p.data.prim_mesh.get(prim).map(|r| (r.mesh, r.tri));
+        assert_eq!(at(0), Some((u32::MAX, 0)));
+        assert_eq!(at(1), Some((0, 0)));
+        assert_eq!(at(2), Some((0, 2)));
+        assert_eq!(at(3), None);
     }
 }

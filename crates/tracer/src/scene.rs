@@ -177,8 +177,10 @@ pub enum Geometry {
         normal: Vec3,
     },
     /// A triangle mesh in world space; each triangle goes into the grid.
-    /// Boxed, so that an `Object` stays small.
-    Mesh(Box<Mesh>),
+    /// Shared, so that an `Object` stays small, cloning a scene does not
+    /// copy the mesh, and the renderer shades from the mesh's own arrays
+    /// (normals, colours, texture coordinates, indices) instead of copies.
+    Mesh(Arc<Mesh>),
     /// Many spheres of the object's material, each with an optional colour
     /// of its own: one object for what would otherwise be one object and
     /// one material per sphere (Suffern's benchmark of a million spheres,

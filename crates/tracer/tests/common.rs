@@ -200,7 +200,12 @@ pub fn kitchen_sink(w: u32, h: u32) -> Scene {
     );
     object(
         &mut s,
-        Geometry::Mesh(Box::new(uv_sphere(Vec3::new(-0.2, 0.9, -1.5), 0.6, 12, 7))),
+        Geometry::Mesh(std::sync::Arc::new(uv_sphere(
+            Vec3::new(-0.2, 0.9, -1.5),
+            0.6,
+            12,
+            7,
+        ))),
         phong,
     );
     object(

@@ -123,7 +123,7 @@ fn objects() {
 fn meshes() {
     let tri = |positions: Vec<Vec3>, triangles: Vec<[u32; 3]>| {
         let mut s = valid();
-        s.objects[0].geometry = Geometry::Mesh(Box::new(Mesh {
+        s.objects[0].geometry = Geometry::Mesh(Arc::new(Mesh {
             name: "bad.obj".into(),
             positions,
             triangles,
@@ -149,7 +149,7 @@ fn meshes() {
     assert!(matches!(e, SceneError::MeshNotFinite { vertex: 1, .. }));
     let mut s = tri(vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![[0, 1, 2]]);
     if let Geometry::Mesh(m) = &mut s.objects[0].geometry {
-        m.normals = vec![Vec3::Z; 2];
+        std::sync::Arc::make_mut(m).normals = vec![Vec3::Z; 2];
     }
     assert!(matches!(
         err(&s),

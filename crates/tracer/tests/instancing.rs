@@ -52,7 +52,7 @@ fn scene_of(mesh: &Arc<Mesh>, placements: &[Affine], bake: bool) -> Scene {
     );
     for a in placements {
         let geometry = if bake {
-            Geometry::Mesh(Box::new(baked(mesh, a)))
+            Geometry::Mesh(Arc::new(baked(mesh, a)))
         } else {
             Geometry::Instance {
                 mesh: Arc::clone(mesh),
@@ -166,8 +166,9 @@ fn two_thousand_instances_of_a_100k_triangle_mesh_cost_little_more_than_one() {
     assert_eq!(r2000.instancing().shared_meshes, 1);
     assert_eq!(r2000.instancing().instances, 2000);
     // The mesh's arrays exist once: the test's handle, the two scenes'
-    // placements and each renderer's shared grid all point at them.
-    assert_eq!(Arc::strong_count(&mesh), 1 + 2 + 2000 + 2);
+    // placements, and each renderer's shared grid and shading data all
+    // point at them.
+    assert_eq!(Arc::strong_count(&mesh), 1 + 2 + 2000 + 2 + 2);
     let (one, all) = (r2.instancing().bytes, r2000.instancing().bytes);
     // 100,000 triangles copied 2,000 times would take gigabytes; the
     // shared grid is paid once and each placement costs a few hundred bytes.

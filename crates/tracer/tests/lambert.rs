@@ -196,12 +196,14 @@ fn smooth_mesh_shades_like_the_sphere_it_approximates() {
     };
     let (exact, _) = render(&scene(sphere(Vec3::ZERO, 1.0)));
     let mesh = uv_sphere(Vec3::ZERO, 1.0, 96, 48);
-    let (smooth, _) = render(&scene(gridrt_tracer::Geometry::Mesh(Box::new(
+    let (smooth, _) = render(&scene(gridrt_tracer::Geometry::Mesh(std::sync::Arc::new(
         mesh.clone(),
     ))));
     let mut flat_mesh = mesh;
     flat_mesh.normals.clear();
-    let (flat, _) = render(&scene(gridrt_tracer::Geometry::Mesh(Box::new(flat_mesh))));
+    let (flat, _) = render(&scene(gridrt_tracer::Geometry::Mesh(std::sync::Arc::new(
+        flat_mesh,
+    ))));
     let (mut worst_smooth, mut worst_flat) = (0.0f32, 0.0f32);
     for y in 0..32 {
         for x in 0..32 {

@@ -23,7 +23,7 @@ fn emissive(radiance: f32) -> Material {
 
 /// Two triangles of the quad `a b c d` (counter-clockwise = front).
 fn quad(name: &str, a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Geometry {
-    Geometry::Mesh(Box::new(Mesh {
+    Geometry::Mesh(std::sync::Arc::new(Mesh {
         name: name.into(),
         positions: vec![a, b, c, d],
         triangles: vec![[0, 1, 2], [0, 2, 3]],
@@ -140,7 +140,7 @@ fn box_mesh(lo: Vec3, hi: Vec3) -> Geometry {
         m.triangles.push([k, k + 1, k + 2]);
         m.triangles.push([k, k + 2, k + 3]);
     }
-    Geometry::Mesh(Box::new(m))
+    Geometry::Mesh(std::sync::Arc::new(m))
 }
 
 #[test]

@@ -30,7 +30,7 @@ fn tilted_floor(n: Vec3, eye: Vec3, floor: Material) -> Scene {
         colors: vec![],
         triangles: vec![[0, 1, 2], [0, 2, 3]],
     };
-    object(&mut s, Geometry::Mesh(Box::new(mesh)), m);
+    object(&mut s, Geometry::Mesh(std::sync::Arc::new(mesh)), m);
     s
 }
 

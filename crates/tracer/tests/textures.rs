@@ -17,7 +17,7 @@ use std::sync::Arc;
 fn quad(r: Real, y: Real, tiles: f32) -> Geometry {
     let p = |x: Real, z: Real| Vec3::new(x, y, z);
     let t = tiles;
-    Geometry::Mesh(Box::new(Mesh {
+    Geometry::Mesh(Arc::new(Mesh {
         name: "quad".into(),
         positions: vec![p(-r, -r), p(-r, r), p(r, r), p(r, -r)],
         normals: vec![],
@@ -94,7 +94,7 @@ fn a_texture_on_the_second_set_reads_the_second_coordinates() {
     let mut q = quad(1.0, 0.0, 1.0);
     if let Geometry::Mesh(mesh) = &mut q {
         // The second set puts the whole quad in the image's green texel.
-        mesh.uvs1 = vec![glam::Vec2::new(0.75, 0.25); 4];
+        std::sync::Arc::make_mut(mesh).uvs1 = vec![glam::Vec2::new(0.75, 0.25); 4];
     }
     object(&mut s, q, m);
     s.textures.list.push(image(2, 2, &QUADRANTS, NEAREST));
@@ -115,7 +115,7 @@ fn a_texture_on_the_second_set_reads_the_second_coordinates() {
     assert_eq!(img.get(6, 6), Rgb::ONE);
     // A mesh with one set reads it for references to the second.
     if let Geometry::Mesh(mesh) = &mut s.objects[0].geometry {
-        mesh.uvs1.clear();
+        std::sync::Arc::make_mut(mesh).uvs1.clear();
     }
     s.textures.maps[0] = on_set(1);
     let (img, _) = render(&s);
@@ -273,7 +273,7 @@ fn vertex_colours_replace_the_albedo_and_interpolate() {
     };
     // Corners at x = −1 red, at x = +1 green.
     let (red, green) = (Rgb::new(1.0, 0.0, 0.0), Rgb::new(0.0, 1.0, 0.0));
-    mesh.colors = vec![red, red, green, green];
+    std::sync::Arc::make_mut(&mut mesh).colors = vec![red, red, green, green];
     object(&mut s, Geometry::Mesh(mesh), m);
     let (img, _) = render(&s);
     let (left, right) = (img.get(0, 4), img.get(7, 4));

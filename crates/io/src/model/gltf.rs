@@ -22,6 +22,7 @@ use gltf::mesh::Mode;
 use gltf::Document;
 use gridrt_bbox::{Real, Vec3};
 use gridrt_tracer::{Camera, Light, Material, Mesh, Projection, Rgb};
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4};
 use std::path::Path;
@@ -37,11 +38,20 @@ const MAX_DEPTH: usize = 256;
 pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) -> Result<Model> {
     check_kind(path, bytes)?;
     let bytes = super::obj::strip_bom(bytes);
+    // A GLB's binary chunk is read where it lies in the file's bytes, not
+    // copied (the gltf crate's `Gltf` would copy it out).
+    let (json, blob) = if bytes.starts_with(b"glTF") {
+        let glb = gltf::binary::Glb::from_slice(bytes).map_err(|e| parse_error(path, e))?;
+        (glb.json, glb.bin)
+    } else {
+        (Cow::Borrowed(bytes), None)
+    };
     let gltf =
-        gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| parse_error(path, e))?;
+        gltf::Gltf::from_slice_without_validation(&json).map_err(|e| parse_error(path, e))?;
+    drop(json);
     validate(path, &gltf.document)?;
     let doc = &gltf.document;
-    let buffers = load_buffers(path, real, sandbox, doc, gltf.blob.clone())?;
+    let buffers = load_buffers(path, real, sandbox, doc, blob)?;
 
     let warnings = Vec::new();
     let mut textures = TextureLoader::new(path, real, sandbox);
@@ -237,13 +247,13 @@ fn validate(path: &Path, doc: &Document) -> Result<()> {
 /// Reads every buffer: the GLB binary chunk, a `data:` URI, or a file the
 /// sandbox lets the model read (the URI percent-decoded first, then
 /// resolved against the glTF file's folder, then checked).
-fn load_buffers(
+fn load_buffers<'a>(
     path: &Path,
     real: &Path,
     sandbox: &Sandbox,
     doc: &Document,
-    mut blob: Option<Vec<u8>>,
-) -> Result<Vec<Vec<u8>>> {
+    mut blob: Option<Cow<'a, [u8]>>,
+) -> Result<Vec<Cow<'a, [u8]>>> {
     let dir = path.parent().unwrap_or_else(|| Path::new(""));
     let mut out = Vec::new();
     for b in doc.buffers() {
@@ -266,7 +276,7 @@ fn load_buffers(
                     let payload = rest.split_once(";base64,").map(|(_, d)| d).ok_or_else(|| {
                         Error::gltf(path, &place, "only base64 data: URIs are supported")
                     })?;
-                    base64::decode(payload).map_err(|e| Error::gltf(path, &place, e))?
+                    Cow::Owned(base64::decode(payload).map_err(|e| Error::gltf(path, &place, e))?)
                 } else {
                     let rel = uri_path(uri).map_err(|e| Error::gltf(path, &place, e))?;
                     let file = sandbox.resolve(real, &rel, true).map_err(|e| match e {
@@ -277,9 +287,9 @@ fn load_buffers(
                             format!("{other} (the .bin must sit where the .gltf's URI says)"),
                         ),
                     })?;
-                    sandbox.read(&file).map_err(|e| {
+                    Cow::Owned(sandbox.read(&file).map_err(|e| {
                         Error::gltf(path, &place, e.renamed(&file, &dir.join(&rel)).to_string())
-                    })?
+                    })?)
                 }
             }
         };
@@ -303,7 +313,7 @@ fn load_buffers(
 struct Loader<'a> {
     path: &'a Path,
     doc: &'a Document,
-    buffers: &'a [Vec<u8>],
+    buffers: &'a [Cow<'a, [u8]>],
     file_name: String,
     meshes: Vec<ModelMesh>,
     /// How many times each mesh is placed (paths to nodes using it).

@@ -3,6 +3,7 @@
 //! or inconsistent file is an error, never a panic.
 
 use gltf::accessor::{DataType, Dimensions};
+use std::borrow::Cow;
 
 /// Bytes per component of a data type.
 fn component_size(t: DataType) -> usize {
@@ -20,7 +21,7 @@ pub(super) fn element_slice<'b>(
     offset: usize,
     count: usize,
     elem: usize,
-    buffers: &'b [Vec<u8>],
+    buffers: &'b [Cow<'_, [u8]>],
 ) -> std::result::Result<(&'b [u8], usize), String> {
     let data = buffers
         .get(view.buffer().index())
@@ -79,7 +80,7 @@ fn f32_le(b: &[u8]) -> f32 {
 /// Reads a FLOAT VEC3 accessor (positions, normals), sparse or not.
 pub(super) fn read_vec3(
     acc: &gltf::Accessor,
-    buffers: &[Vec<u8>],
+    buffers: &[Cow<[u8]>],
 ) -> std::result::Result<Vec<[f32; 3]>, String> {
     if acc.data_type() != DataType::F32 || acc.dimensions() != Dimensions::Vec3 {
         return Err(format!(
@@ -141,7 +142,7 @@ fn read_uint(b: &[u8]) -> u32 {
 /// Reads an index accessor (UNSIGNED_BYTE/SHORT/INT SCALAR).
 pub(super) fn read_indices(
     acc: &gltf::Accessor,
-    buffers: &[Vec<u8>],
+    buffers: &[Cow<[u8]>],
 ) -> std::result::Result<Vec<u32>, String> {
     let size = component_size(acc.data_type());
     let unsigned = matches!(

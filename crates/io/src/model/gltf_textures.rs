@@ -13,6 +13,7 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::texture::{MagFilter, MinFilter, WrappingMode};
 use gridrt_tracer::texture::{AlphaMode, Sampler, TexFilter, UvTransform, Wrap};
 use gridrt_tracer::{MaterialMaps, Rgb, TextureRef};
+use std::borrow::Cow;
 use std::path::Path;
 
 /// The texture-coordinate set a texture reference reads
@@ -70,7 +71,7 @@ fn sampler(t: &gltf::Texture) -> Sampler {
 fn texture(
     loader: &mut TextureLoader,
     path: &Path,
-    buffers: &[Vec<u8>],
+    buffers: &[Cow<[u8]>],
     t: &gltf::Texture,
     srgb: bool,
     place: &str,
@@ -133,7 +134,7 @@ pub(crate) fn maps(
     name: &str,
     loader: &mut TextureLoader,
     path: &Path,
-    buffers: &[Vec<u8>],
+    buffers: &[Cow<[u8]>],
 ) -> Result<MaterialMaps> {
     let place = format!("material \"{name}\"");
     let pbr = m.pbr_metallic_roughness();
@@ -229,7 +230,7 @@ pub(crate) fn maps(
 /// UNSIGNED_SHORT, VEC2.
 pub(crate) fn read_uvs(
     acc: &gltf::Accessor,
-    buffers: &[Vec<u8>],
+    buffers: &[Cow<[u8]>],
 ) -> std::result::Result<Vec<glam::Vec2>, String> {
     let (size, decode): (usize, fn(&[u8]) -> f32) = match (acc.data_type(), acc.normalized()) {
         (DataType::F32, _) => (4, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
@@ -273,7 +274,7 @@ pub(crate) fn read_uvs(
 pub(crate) fn primitive_uvs(
     prim: &gltf::Primitive,
     n: usize,
-    buffers: &[Vec<u8>],
+    buffers: &[Cow<[u8]>],
     (path, place): (&Path, &str),
     warnings: &mut Vec<String>,
 ) -> [Vec<glam::Vec2>; 2] {

@@ -14,7 +14,7 @@ mod obj_textures;
 mod ply;
 pub(crate) mod texture_load;
 
-pub(crate) use self::normals::applied_once;
+pub(crate) use self::normals::{applied_once, AppliedCache};
 pub use self::normals::{Crease, Normals, DEFAULT_CREASE_DEG};
 use crate::error::{Error, Result};
 use crate::sandbox::Sandbox;
@@ -94,9 +94,14 @@ pub struct ModelMesh {
 impl ModelMesh {
     /// The mesh with counter-clockwise front faces: a mirrored mesh gets its
     /// triangles' second and third vertices swapped.
+    ///
+    /// Takes the mesh out of its `Arc` when this is the only reference (a
+    /// mesh placed once, straight from the loader): its arrays are moved,
+    /// not copied. A mesh shared with other placements or a cached model is
+    /// copied.
     #[must_use]
-    pub fn oriented(&self) -> Mesh {
-        let mut mesh = (*self.mesh).clone();
+    pub fn oriented(self) -> Mesh {
+        let mut mesh = Arc::try_unwrap(self.mesh).unwrap_or_else(|shared| (*shared).clone());
         if self.mirrored {
             for t in &mut mesh.triangles {
                 t.swap(1, 2);
@@ -462,8 +467,9 @@ mod tests {
             .transform(&DMat4::from_scale(DVec3::new(-1.0, 1.0, 1.0)))
             .unwrap();
         assert!(model.meshes[0].mirrored);
-        assert_eq!(model.meshes[0].oriented().triangles, vec![[0, 2, 1]]);
         assert_eq!(model.meshes[0].mesh.positions[1], -Vec3::X);
+        let mm = model.meshes.swap_remove(0);
+        assert_eq!(mm.oriented().triangles, vec![[0, 2, 1]]);
     }
 
     #[test]
@@ -475,5 +481,29 @@ mod tests {
         if r64(Real::MAX) < 1e300 {
             assert!(r.is_err());
         }
+    }
+
+    #[test]
+    fn oriented_moves_a_mesh_it_holds_alone_and_copies_a_shared_one() {
+        let placed = |mesh: Arc<Mesh>, mirrored| ModelMesh {
+            mesh,
+            material: None,
+            mirrored,
+            placement: None,
+        };
+        for mirrored in [false, true] {
+            let mesh = Arc::new(tri_mesh());
+            let ptrs = (mesh.positions.as_ptr(), mesh.triangles.as_ptr());
+            let m = placed(mesh, mirrored).oriented();
+            // Held alone: the same arrays, the winding swapped in place.
+            assert_eq!((m.positions.as_ptr(), m.triangles.as_ptr()), ptrs);
+            let want = if mirrored { [0, 2, 1] } else { [0, 1, 2] };
+            assert_eq!(m.triangles, vec![want]);
+        }
+        // Shared: a copy, and the other holder's mesh is left as it was.
+        let mesh = Arc::new(tri_mesh());
+        let m = placed(Arc::clone(&mesh), true).oriented();
+        assert_ne!(m.triangles.as_ptr(), mesh.triangles.as_ptr());
+        assert_eq!((m.triangles[0], mesh.triangles[0]), ([0, 2, 1], [0, 1, 2]));
     }
 }

@@ -84,18 +84,23 @@ impl Normals {
     }
 }
 
+/// The cache of [`applied_once`]: by the source mesh's address, the source
+/// (held, so that its address is not reused while the cache lives) and the
+/// mesh with the normals applied.
+pub(crate) type AppliedCache =
+    std::collections::HashMap<*const Mesh, (std::sync::Arc<Mesh>, std::sync::Arc<Mesh>)>;
+
 /// `mesh` with `normals` applied, once per shared mesh (`cache` by the
 /// mesh's address), so that placements still share one copy.
 pub(crate) fn applied_once(
-    cache: &mut std::collections::HashMap<*const Mesh, std::sync::Arc<Mesh>>,
+    cache: &mut AppliedCache,
     mesh: &std::sync::Arc<Mesh>,
     normals: Normals,
 ) -> std::sync::Arc<Mesh> {
-    std::sync::Arc::clone(
-        cache
-            .entry(std::sync::Arc::as_ptr(mesh))
-            .or_insert_with(|| normals.applied(mesh)),
-    )
+    let (_, applied) = cache
+        .entry(std::sync::Arc::as_ptr(mesh))
+        .or_insert_with(|| (std::sync::Arc::clone(mesh), normals.applied(mesh)));
+    std::sync::Arc::clone(applied)
 }
 
 /// Corners around one position beyond which the crease test, which is
@@ -107,107 +112,203 @@ const MAX_CREASE_CORNERS: usize = 512;
 /// `crease_deg` is the largest angle, in degrees, between two faces that
 /// are shaded as one smooth surface (0 gives flat facets, 180 smooths
 /// everything).
+///
+/// Lean in memory, as it runs on the largest meshes: positions are grouped
+/// by sorting the vertices, not hashing the corners; the corners of each
+/// position are listed in one flat array; face normals and corner angles
+/// are computed where a position's corners need them, not kept for the
+/// whole mesh. Beside the mesh it holds about 13 bytes per corner and 12
+/// per vertex.
 pub(crate) fn smooth(mesh: &mut Mesh, crease_deg: f64) {
     if !mesh.normals.is_empty() || mesh.triangles.is_empty() {
         return;
     }
     let cos_crease = crease_deg.clamp(0.0, 180.0).to_radians().cos() as Real;
-    let p = &mesh.positions;
+    let nv = mesh.positions.len();
+    let (group_of, groups) = position_groups(&mesh.positions);
+    let corners = Corners::new(&mesh.triangles, &group_of, groups);
+    drop(group_of);
 
-    // Unit face normals (zero for degenerate faces, which then give and
-    // take nothing) and each corner's angle.
-    let mut face_n = Vec::with_capacity(mesh.triangles.len());
-    let mut angles = Vec::with_capacity(mesh.triangles.len());
-    for t in &mesh.triangles {
-        let [a, b, c] = t.map(|i| p[i as usize]);
-        face_n.push((b - a).cross(c - a).normalize_or_zero());
-        let angle = |o: Vec3, u: Vec3, v: Vec3| -> Real {
-            let (u, v) = ((u - o).normalize_or_zero(), (v - o).normalize_or_zero());
-            u.dot(v).clamp(-1.0, 1.0).acos()
-        };
-        angles.push([angle(a, b, c), angle(b, c, a), angle(c, a, b)]);
-    }
-
-    // Corners grouped by position (bitwise equal; -0 and +0 alike).
-    let key = |v: Vec3| v.to_array().map(|x| (x + 0.0).to_bits());
-    let mut group_of: HashMap<_, u32> = HashMap::with_capacity(p.len());
-    let mut groups: Vec<Vec<(u32, u8)>> = Vec::new();
-    for (f, t) in mesh.triangles.iter().enumerate() {
-        for (k, &v) in t.iter().enumerate() {
-            let next = groups.len() as u32;
-            let g = *group_of.entry(key(p[v as usize])).or_insert(next);
-            if g == next {
-                groups.push(Vec::new());
-            }
-            groups[g as usize].push((f as u32, k as u8));
-        }
-    }
-
-    // Each corner's normal.
-    let mut corner_n = vec![[Vec3::ZERO; 3]; mesh.triangles.len()];
-    for corners in &groups {
-        let weighted = |f: u32, k: u8| face_n[f as usize] * angles[f as usize][k as usize];
-        if corners.len() > MAX_CREASE_CORNERS {
-            let mean = corners
-                .iter()
-                .fold(Vec3::ZERO, |s, &(f, k)| s + weighted(f, k))
-                .normalize_or_zero();
-            let n = corners
-                .iter()
-                .filter(|&&(f, _)| face_n[f as usize].dot(mean) >= cos_crease)
-                .fold(Vec3::ZERO, |s, &(f, k)| s + weighted(f, k));
-            for &(f, k) in corners {
-                corner_n[f as usize][k as usize] = n;
-            }
-            continue;
-        }
-        for &(f, k) in corners {
-            let own = face_n[f as usize];
-            corner_n[f as usize][k as usize] = corners
-                .iter()
-                .filter(|&&(g, _)| face_n[g as usize].dot(own) >= cos_crease)
-                .fold(Vec3::ZERO, |s, &(g, j)| s + weighted(g, j));
-        }
-    }
-
-    // One vertex per (vertex, normal): split where the normals differ.
-    let mut normals: Vec<Option<Vec3>> = vec![None; p.len()];
+    // One vertex per (vertex, normal): a vertex whose corners get
+    // different normals is split, one copy per normal (the vertex each
+    // copy copies, and its normal). NaN: no corner has set it yet.
+    let mut normals = vec![Vec3::NAN; nv];
+    let mut copy_of: Vec<u32> = Vec::new();
     let mut copies: HashMap<(u32, [u64; 3]), u32> = HashMap::new();
-    let has_uvs = mesh.uvs.len() == p.len();
-    let has_colors = mesh.colors.len() == p.len();
-    for (f, t) in mesh.triangles.iter_mut().enumerate() {
-        for (k, v) in t.iter_mut().enumerate() {
+    // One position's corners: each one's face normal and weighted normal.
+    let (mut own, mut weighted) = (Vec::new(), Vec::new());
+    for g in 0..groups {
+        let (faces, ks) = corners.of(g);
+        own.clear();
+        weighted.clear();
+        for (&f, &k) in faces.iter().zip(ks) {
+            // Corners done before may point at copies, not yet appended.
+            let t = mesh.triangles[f as usize].map(|v| match (v as usize).checked_sub(nv) {
+                Some(c) => copy_of[c],
+                None => v,
+            });
+            let (n, angle) = face_corner(&mesh.positions, t, k);
+            own.push(n);
+            weighted.push(n * angle);
+        }
+        let big = faces.len() > MAX_CREASE_CORNERS;
+        let mean_n = if big {
+            let mean = weighted
+                .iter()
+                .fold(Vec3::ZERO, |s, &w| s + w)
+                .normalize_or_zero();
+            own.iter()
+                .zip(&weighted)
+                .filter(|(n, _)| n.dot(mean) >= cos_crease)
+                .fold(Vec3::ZERO, |s, (_, &w)| s + w)
+        } else {
+            Vec3::ZERO
+        };
+        for (i, (&f, &k)) in faces.iter().zip(ks).enumerate() {
+            let sum = if big {
+                mean_n
+            } else {
+                own.iter()
+                    .zip(&weighted)
+                    .filter(|(n, _)| n.dot(own[i]) >= cos_crease)
+                    .fold(Vec3::ZERO, |s, (_, &w)| s + w)
+            };
             // A corner whose faces cancel out, or a degenerate face's
             // corner, takes its face's normal, or any unit vector.
-            let n = corner_n[f][k]
+            let n = sum
                 .try_normalize()
-                .or_else(|| face_n[f].try_normalize())
+                .or_else(|| own[i].try_normalize())
                 .unwrap_or(Vec3::Z);
+            let v = &mut mesh.triangles[f as usize][usize::from(k)];
             let slot = &mut normals[*v as usize];
-            match slot {
-                None => *slot = Some(n),
-                Some(m) if *m == n => {}
-                Some(_) => {
-                    let bits = n.to_array().map(|x| super::r64(x).to_bits());
-                    let new = *copies.entry((*v, bits)).or_insert_with(|| {
-                        mesh.positions.push(mesh.positions[*v as usize]);
-                        if has_uvs {
-                            mesh.uvs.push(mesh.uvs[*v as usize]);
-                        }
-                        if has_colors {
-                            mesh.colors.push(mesh.colors[*v as usize]);
-                        }
-                        normals.push(Some(n));
-                        (mesh.positions.len() - 1) as u32
-                    });
-                    *v = new;
-                }
+            if slot.is_nan() {
+                *slot = n;
+            } else if *slot != n {
+                let bits = n.to_array().map(|x| super::r64(x).to_bits());
+                let next = (nv + copy_of.len()) as u32;
+                let new = *copies.entry((*v, bits)).or_insert_with(|| {
+                    copy_of.push(*v);
+                    normals.push(n);
+                    next
+                });
+                *v = new;
             }
         }
     }
+    drop(corners);
+    // Copies go after the vertices, with their position, texture
+    // coordinates and colour; no capacity is left over.
+    let has_uvs = mesh.uvs.len() == nv;
+    let has_colors = mesh.colors.len() == nv;
+    append_copies(&mut mesh.positions, &copy_of);
+    if has_uvs {
+        append_copies(&mut mesh.uvs, &copy_of);
+    }
+    if has_colors {
+        append_copies(&mut mesh.colors, &copy_of);
+    }
     // Vertices no triangle uses keep a placeholder-free unit normal.
-    mesh.normals = normals.into_iter().map(|n| n.unwrap_or(Vec3::Z)).collect();
+    for n in &mut normals {
+        if n.is_nan() {
+            *n = Vec3::Z;
+        }
+    }
+    normals.shrink_to_fit();
+    mesh.normals = normals;
 }
+
+/// The unit normal of triangle `t` (zero for a degenerate one, which then
+/// gives and takes nothing) and its angle at corner `k`.
+#[inline]
+fn face_corner(p: &[Vec3], t: [u32; 3], k: u8) -> (Vec3, Real) {
+    let [a, b, c] = t.map(|i| p[i as usize]);
+    let n = (b - a).cross(c - a).normalize_or_zero();
+    let angle = |o: Vec3, u: Vec3, v: Vec3| -> Real {
+        let (u, v) = ((u - o).normalize_or_zero(), (v - o).normalize_or_zero());
+        u.dot(v).clamp(-1.0, 1.0).acos()
+    };
+    let at = match k {
+        0 => angle(a, b, c),
+        1 => angle(b, c, a),
+        _ => angle(c, a, b),
+    };
+    (n, at)
+}
+
+/// Appends to `v` a copy of `v[k]` for each `k` of `copy_of`, growing it
+/// to exactly its new length.
+fn append_copies<T: Copy>(v: &mut Vec<T>, copy_of: &[u32]) {
+    v.reserve_exact(copy_of.len());
+    for &k in copy_of {
+        v.push(v[k as usize]);
+    }
+    v.shrink_to_fit();
+}
+
+/// Each vertex's position group (vertices at bitwise equal positions, -0
+/// and +0 alike, are one group) and the number of groups.
+fn position_groups(p: &[Vec3]) -> (Vec<u32>, usize) {
+    let key = |v: Vec3| v.to_array().map(|x| (x + 0.0).to_bits());
+    let mut order: Vec<u32> = (0..p.len() as u32).collect();
+    order.sort_unstable_by_key(|&v| key(p[v as usize]));
+    let mut group_of = vec![0u32; p.len()];
+    let mut groups = 0usize;
+    let mut last = None;
+    for &v in &order {
+        let k = key(p[v as usize]);
+        if last != Some(k) {
+            last = Some(k);
+            groups += 1;
+        }
+        group_of[v as usize] = (groups - 1) as u32;
+    }
+    (group_of, groups)
+}
+
+/// The corners of each position group, in face order: group `g`'s are
+/// `faces[start[g]..start[g + 1]]`, with their corner index in `ks`.
+struct Corners {
+    start: Vec<usize>,
+    faces: Vec<u32>,
+    ks: Vec<u8>,
+}
+
+impl Corners {
+    fn new(triangles: &[[u32; 3]], group_of: &[u32], groups: usize) -> Self {
+        let mut start = vec![0usize; groups + 1];
+        for t in triangles {
+            for &v in t {
+                start[group_of[v as usize] as usize + 1] += 1;
+            }
+        }
+        for g in 0..groups {
+            start[g + 1] += start[g];
+        }
+        let n = start[groups];
+        let (mut faces, mut ks) = (vec![0u32; n], vec![0u8; n]);
+        // `start[g]` is group g's next free slot while filling, its end
+        // after; shifting by one makes it its start again.
+        for (f, t) in triangles.iter().enumerate() {
+            for (k, &v) in t.iter().enumerate() {
+                let slot = &mut start[group_of[v as usize] as usize];
+                faces[*slot] = f as u32;
+                ks[*slot] = k as u8;
+                *slot += 1;
+            }
+        }
+        start.copy_within(0..groups, 1);
+        start[0] = 0;
+        Self { start, faces, ks }
+    }
+
+    fn of(&self, g: usize) -> (&[u32], &[u8]) {
+        let r = self.start[g]..self.start[g + 1];
+        (&self.faces[r.clone()], &self.ks[r])
+    }
+}
+
+#[cfg(test)]
+mod reference;
 
 #[cfg(test)]
 mod tests {
@@ -306,5 +407,130 @@ mod tests {
         m.normals = vec![Vec3::X; 8];
         smooth(&mut m, 60.0);
         assert_eq!(m.normals, vec![Vec3::X; 8]);
+    }
+
+    /// Runs the lean and the reference smoothing on copies of `m` and
+    /// checks that every corner ends up with the same position, normal,
+    /// texture coordinate and colour, bit for bit, and that both split the
+    /// same number of vertices.
+    fn same_as_reference(m: &Mesh, crease: f64) {
+        let (mut lean, mut reference) = (m.clone(), m.clone());
+        smooth(&mut lean, crease);
+        reference::smooth_reference(&mut reference, crease);
+        assert_eq!(lean.positions.len(), reference.positions.len());
+        assert_eq!(lean.normals.len(), reference.normals.len());
+        assert_eq!(lean.uvs.len(), reference.uvs.len());
+        assert_eq!(lean.colors.len(), reference.colors.len());
+        let bits = |v: Vec3| v.to_array().map(|x| crate::model::r64(x).to_bits());
+        for (a, b) in lean.triangles.iter().zip(&reference.triangles) {
+            for (&i, &j) in a.iter().zip(b) {
+                let (i, j) = (i as usize, j as usize);
+                assert_eq!(bits(lean.positions[i]), bits(reference.positions[j]));
+                assert_eq!(bits(lean.normals[i]), bits(reference.normals[j]));
+                if !m.uvs.is_empty() {
+                    assert_eq!(lean.uvs[i], reference.uvs[j]);
+                }
+                if !m.colors.is_empty() {
+                    assert_eq!(lean.colors[i], reference.colors[j]);
+                }
+            }
+        }
+        // Nothing is kept beyond the arrays' lengths.
+        assert_eq!(lean.positions.capacity(), lean.positions.len());
+        assert_eq!(lean.normals.capacity(), lean.normals.len());
+    }
+
+    /// A bumpy grid of `n` × `n` quads whose vertices are stored twice
+    /// along a seam, with a few degenerate faces, texture coordinates and
+    /// colours.
+    fn bumpy(n: u32) -> Mesh {
+        let mut seed = 0x9E37_79B9_7F4A_7C15_u64;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 40) as Real / (1u64 << 24) as Real
+        };
+        let mut positions = Vec::new();
+        for y in 0..=n {
+            for x in 0..=n {
+                let h = if (x + y) % 7 == 0 { 0.8 } else { 0.1 * rnd() };
+                positions.push(Vec3::new(x as Real, h, y as Real));
+            }
+        }
+        let at = |x: u32, y: u32| y * (n + 1) + x;
+        let seam = positions.len() as u32;
+        // The column x = n / 2 again, for the quads right of it.
+        for y in 0..=n {
+            positions.push(positions[at(n / 2, y) as usize]);
+        }
+        let mut triangles = Vec::new();
+        for y in 0..n {
+            for x in 0..n {
+                let v = |dx: u32, dy: u32| {
+                    if x + dx == n / 2 && dx == 0 && x > 0 {
+                        seam + y + dy
+                    } else {
+                        at(x + dx, y + dy)
+                    }
+                };
+                triangles.push([v(0, 0), v(0, 1), v(1, 1)]);
+                triangles.push([v(0, 0), v(1, 1), v(1, 0)]);
+            }
+        }
+        triangles.push([0, 0, 1]);
+        triangles.push([2, 2, 2]);
+        let k = positions.len();
+        let uvs = (0..k).map(|i| glam::Vec2::new(i as f32, 0.5)).collect();
+        let colors = (0..k)
+            .map(|i| gridrt_tracer::Rgb::splat(i as f32 / k as f32))
+            .collect();
+        Mesh {
+            name: "bumpy".into(),
+            positions,
+            normals: vec![],
+            uvs,
+            uvs1: vec![],
+            colors,
+            triangles,
+        }
+    }
+
+    /// A fan of `n` thin triangles around the origin: more corners at one
+    /// position than the crease test takes one by one.
+    fn fan(n: u32) -> Mesh {
+        let mut positions = vec![Vec3::ZERO];
+        for i in 0..=n {
+            let a = i as Real * 0.01;
+            positions.push(Vec3::new(a.cos(), 0.3 * (i % 3) as Real, a.sin()));
+        }
+        Mesh {
+            name: "fan".into(),
+            positions,
+            normals: vec![],
+            uvs: vec![],
+            uvs1: vec![],
+            colors: vec![],
+            triangles: (1..=n).map(|i| [0, i, i + 1]).collect(),
+        }
+    }
+
+    #[test]
+    fn the_lean_smoothing_matches_the_reference() {
+        for crease in [0.0, 30.0, 60.0, 89.0, 180.0] {
+            same_as_reference(&cube(), crease);
+            same_as_reference(&bumpy(12), crease);
+            same_as_reference(&fan(600), crease);
+        }
+        let teapot = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../fixtures/meshes/teapot/teapot.obj"
+        );
+        let model = crate::load_model(std::path::Path::new(teapot)).unwrap();
+        for mm in &model.meshes {
+            let mut m = (*mm.mesh).clone();
+            m.normals.clear();
+            same_as_reference(&m, DEFAULT_CREASE_DEG);
+        }
     }
 }
