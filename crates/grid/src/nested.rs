@@ -68,6 +68,10 @@ pub(crate) const SEPARATION: f64 = 0.75;
 /// more primitives than the cell holds.
 pub(crate) const MAX_HEAVY: usize = 1;
 
+/// References whose nested grids are planned and filled together (the
+/// plans of one batch hold a cell range for each).
+const BATCH_REFS: usize = 1 << 16;
+
 /// How the hierarchy is built.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct NestParams {
@@ -267,35 +271,54 @@ impl Nested {
                 };
                 (g, &all[c.start as usize..][..c.len as usize])
             };
-            let plans = map_indices(cands.len(), p.parallel, |i| {
-                let (g, refs) = refs_of(&cands[i]);
-                plan(prims, g, cands[i].idx, refs, p)
-            });
-            // Granted in order, so the same grids are built whatever the threads.
-            let mut granted: Vec<(usize, Plan)> = Vec::new();
-            for (i, plan) in plans.into_iter().enumerate() {
-                let Some(plan) = plan else { continue };
-                let bytes = plan.bytes();
-                if used + bytes <= p.budget {
-                    used += bytes;
-                    granted.push((i, plan));
+            // Planned and filled a batch at a time: a plan holds a cell
+            // range per reference (28 bytes), so the plans of a whole
+            // level at once would take more than the grids they fill
+            // (30 MB beside the dragon's 20 MB of nested grids).
+            let mut granted: Vec<usize> = Vec::new();
+            let mut filled: Vec<Sub> = Vec::new();
+            let mut b0 = 0;
+            while b0 < cands.len() {
+                let mut b1 = b0;
+                let mut refs = 0usize;
+                while b1 < cands.len() && (b1 == b0 || refs < BATCH_REFS) {
+                    refs += cands[b1].len as usize;
+                    b1 += 1;
                 }
+                let plans = map_indices(b1 - b0, p.parallel, |i| {
+                    let c = &cands[b0 + i];
+                    let (g, refs) = refs_of(c);
+                    plan(prims, g, c.idx, refs, p)
+                });
+                // Granted in order, so the same grids are built whatever
+                // the threads and the batches.
+                let mut ok: Vec<(usize, Plan)> = Vec::new();
+                for (i, plan) in (b0..).zip(plans) {
+                    let Some(plan) = plan else { continue };
+                    let bytes = plan.bytes();
+                    if used + bytes <= p.budget {
+                        used += bytes;
+                        ok.push((i, plan));
+                    }
+                }
+                filled.extend(map_indices(ok.len(), p.parallel, |k| {
+                    let (i, plan) = &ok[k];
+                    let c = &cands[*i];
+                    fill(plan, c.start, c.depth)
+                }));
+                granted.extend(ok.iter().map(|(i, _)| *i));
+                b0 = b1;
             }
-            let filled = map_indices(granted.len(), p.parallel, |k| {
-                let (i, plan) = &granted[k];
-                let c = &cands[*i];
-                fill(plan, c.start, c.depth)
-            });
             // Each parent's children, contiguous from `base`.
             let base = subs.len();
             let mut k = 0;
             while k < granted.len() {
-                let parent = cands[granted[k].0].parent;
+                let parent = cands[granted[k]].parent;
                 let mut e = k;
-                while e < granted.len() && cands[granted[e].0].parent == parent {
+                while e < granted.len() && cands[granted[e]].parent == parent {
                     e += 1;
                 }
-                let starts: Vec<u32> = granted[k..e].iter().map(|g| cands[g.0].start).collect();
+                let starts: Vec<u32> = granted[k..e].iter().map(|&g| cands[g].start).collect();
                 match parent {
                     None => {
                         root_children =
@@ -312,7 +335,7 @@ impl Nested {
             // stopping rule lets through.
             let mut next = Vec::new();
             for (k, sub) in filled.iter().enumerate() {
-                let parent_len = cands[granted[k].0].len as f64;
+                let parent_len = cands[granted[k]].len as f64;
                 if sub.depth >= MAX_DEPTH {
                     continue;
                 }

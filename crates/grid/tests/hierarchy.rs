@@ -320,3 +320,66 @@ fn a_fan_of_4000_triangles_never_costs_more_than_exhaustive() {
         );
     }
 }
+
+/// A finely tessellated wavy sheet in a large room crowds thousands of
+/// cells, whose references are many times one batch of nested-grid plans:
+/// the batches build the same valid grids whatever the threads, and a
+/// budget that runs out part way through a level is kept.
+#[test]
+fn a_surface_crowding_many_cells_nests_the_same_in_batches() {
+    let n = 300;
+    let at = |i: u32, j: u32| {
+        let (x, z) = (i as Real / n as Real, j as Real / n as Real);
+        Vec3::new(x, 0.05 * (9.0 * x).sin() * (7.0 * z).cos(), z)
+    };
+    let mut scene = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            scene.push(Triangle::new(at(i, j), at(i + 1, j), at(i + 1, j + 1)));
+            scene.push(Triangle::new(at(i, j), at(i + 1, j + 1), at(i, j + 1)));
+        }
+    }
+    for k in [-1.0 as Real, 1.0] {
+        let p = Vec3::splat(1.5 * k);
+        scene.push(Triangle::new(p, p + Vec3::X, p + Vec3::Y));
+    }
+    let unlimited = Grid::build(
+        scene.clone(),
+        &GridConfig {
+            nest_min_refs: 48,
+            ..GridConfig::default()
+        },
+    );
+    let all = unlimited.stats().clone();
+    assert!(
+        all.references > 2 << 16 && all.nested_cells > 100,
+        "{all:?}"
+    );
+    let half = all.bytes / 2;
+    for budget in [None, Some(half)] {
+        let stats: Vec<_> = [false, true]
+            .map(|parallel_build| {
+                let g = Grid::build(
+                    scene.clone(),
+                    &GridConfig {
+                        nest_min_refs: 48,
+                        parallel_build,
+                        memory_budget: budget,
+                        ..GridConfig::default()
+                    },
+                );
+                g.check_invariants().expect("a valid grid");
+                g.stats().clone()
+            })
+            .into();
+        let s = &stats[0];
+        assert!(s.nested_cells > 0 && s.bytes <= s.budget, "{s:?}");
+        if budget.is_some() {
+            assert!(s.nested_cells < all.nested_cells, "{s:?}");
+        }
+        assert_eq!(
+            (s.nested_cells, s.nest_levels, s.bytes),
+            (stats[1].nested_cells, stats[1].nest_levels, stats[1].bytes)
+        );
+    }
+}
