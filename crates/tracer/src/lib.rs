@@ -70,6 +70,7 @@
 // at each use.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod accel_of;
 mod aov;
 mod bsdf;
 mod camera;

@@ -27,6 +27,9 @@ pub(crate) enum Prims {
     /// A scene's only primitives: one sphere set, shared with the scene
     /// (the grid copies each sphere once, straight into cell order).
     Set(Arc<SphereSet>),
+    /// Mesh triangles only (meshes, flattened instances, planes aside):
+    /// the compact type, with no enum tag.
+    Triangles(Vec<Triangle>),
     Shapes(Vec<Shape>),
 }
 
@@ -35,6 +38,7 @@ impl Prims {
         match self {
             Prims::Spheres(v) => v.len(),
             Prims::Set(s) => s.spheres.len(),
+            Prims::Triangles(v) => v.len(),
             Prims::Shapes(v) => v.len(),
         }
     }
@@ -332,6 +336,51 @@ struct Instancing {
     mesh_grid: GridConfig,
 }
 
+/// The grid primitives of a scene that is not all spheres, as they are
+/// made: mesh triangles alone, or shapes of every kind.
+enum Out {
+    Triangles(Vec<Triangle>),
+    Shapes(Vec<Shape>),
+}
+
+impl Out {
+    fn len(&self) -> usize {
+        match self {
+            Out::Triangles(v) => v.len(),
+            Out::Shapes(v) => v.len(),
+        }
+    }
+
+    fn push_triangle(&mut self, t: Triangle) {
+        match self {
+            Out::Triangles(v) => v.push(t),
+            Out::Shapes(v) => v.push(Shape::from(t)),
+        }
+    }
+
+    /// Adds a shape; triangles so far become shapes if it is not one (the
+    /// scene's objects decide up front, so this does not happen).
+    fn push(&mut self, s: Shape) {
+        match (&mut *self, s) {
+            (Out::Triangles(v), Shape::Triangle(t)) => v.push(t),
+            (Out::Triangles(v), s) => {
+                let mut all: Vec<Shape> = v.drain(..).map(Shape::from).collect();
+                all.push(s);
+                *self = Out::Shapes(all);
+            }
+            (Out::Shapes(v), s) => v.push(s),
+        }
+    }
+
+    /// Primitive `k` as a shape.
+    fn shape(&self, k: usize) -> Shape {
+        match self {
+            Out::Triangles(v) => Shape::Triangle(v[k]),
+            Out::Shapes(v) => v[k].clone(),
+        }
+    }
+}
+
 fn convert(
     scene: &Scene,
     Counts { count, all_spheres }: Counts,
@@ -454,7 +503,18 @@ fn convert(
         }
         Prims::Spheres(spheres)
     } else {
-        let mut shapes: Vec<Shape> = Vec::with_capacity(count);
+        // Only mesh triangles in the grid: the compact type.
+        let triangles_only = scene.objects.iter().all(|o| match &o.geometry {
+            Geometry::Mesh(_) | Geometry::Plane { .. } => true,
+            Geometry::Instance { .. } => !instancing.shared.keeps(scene, o),
+            Geometry::Spheres(set) => set.spheres.is_empty(),
+            Geometry::Sphere { .. } | Geometry::Cuboid { .. } => false,
+        });
+        let mut shapes = if triangles_only {
+            Out::Triangles(Vec::with_capacity(count))
+        } else {
+            Out::Shapes(Vec::with_capacity(count))
+        };
         let mut grids: HashMap<*const Mesh, Arc<MeshGrid>> = HashMap::new();
         for o in &scene.objects {
             let first = shapes.len();
@@ -470,7 +530,9 @@ fn convert(
                     record(o.material, 1, &[], MeshRef::NONE, data);
                 }
                 Geometry::Spheres(set) => {
-                    shapes.extend(set.spheres.iter().map(|&sp| Shape::from(sp)));
+                    for &sp in &set.spheres {
+                        shapes.push(Shape::from(sp));
+                    }
                     record(
                         o.material,
                         set.spheres.len(),
@@ -530,7 +592,7 @@ fn convert(
                     if tri.is_degenerate() {
                         continue;
                     }
-                    shapes.push(Shape::from(tri));
+                    shapes.push_triangle(tri);
                     let r = MeshRef {
                         mesh: mesh_id,
                         tri: t as u32,
@@ -539,15 +601,18 @@ fn convert(
                 }
             }
             if sample_lights {
-                for (k, shape) in shapes.iter().enumerate().skip(first) {
-                    add_emitter(data, k, shape, o.material);
+                for k in first..shapes.len() {
+                    add_emitter(data, k, &shapes.shape(k), o.material);
                 }
             }
         }
         stats.shared_meshes = grids.len();
         stats.bytes = grids.values().map(|g| g.bytes()).sum::<usize>()
             + stats.instances * std::mem::size_of::<Instance>();
-        Prims::Shapes(shapes)
+        match shapes {
+            Out::Triangles(v) => Prims::Triangles(v),
+            Out::Shapes(v) => Prims::Shapes(v),
+        }
     };
     data.prim_material = match uniform {
         Some(m) => PrimMaterials::Uniform(m),
@@ -675,5 +740,55 @@ mod tests {
         assert_eq!(at(1), Some((0, 0)));
         assert_eq!(at(2), Some((0, 2)));
         assert_eq!(at(3), None);
+    }
+
+    #[test]
+    fn mesh_triangles_alone_get_the_compact_type() {
+        let quad = |x: Real| {
+            Arc::new(Mesh {
+                positions: vec![
+                    Vec3::new(x, 0.0, 0.0),
+                    Vec3::new(x + 1.0, 0.0, 0.0),
+                    Vec3::new(x + 1.0, 1.0, 0.0),
+                    Vec3::new(x, 1.0, 0.0),
+                ],
+                triangles: vec![[0, 1, 2], [0, 2, 3]],
+                ..Mesh::default()
+            })
+        };
+        let mut scene = suffern::scene(0);
+        scene.objects.clear();
+        for x in [0.0, 2.0] {
+            scene.objects.push(Object {
+                geometry: Geometry::Mesh(quad(x)),
+                material: 0,
+            });
+        }
+        scene.objects.push(Object {
+            geometry: Geometry::Plane {
+                point: Vec3::ZERO,
+                normal: Vec3::Y,
+            },
+            material: 0,
+        });
+        let p = prepare(&scene, Some(&GridConfig::default())).unwrap();
+        assert!(matches!(&p.prims, Prims::Triangles(v) if v.len() == 4));
+        // Möller–Trumbore triangles are shapes of their own kind.
+        let mt = crate::robustness::with_triangle_test(
+            p.prims,
+            crate::robustness::TriangleTest::MollerTrumbore,
+        );
+        assert!(matches!(&mt, Prims::Shapes(v)
+            if v.len() == 4 && v.iter().all(|s| matches!(s, Shape::MtTriangle(_)))));
+        // A sphere beside them: shapes.
+        scene.objects.push(Object {
+            geometry: Geometry::Sphere {
+                center: Vec3::new(0.0, 5.0, 0.0),
+                radius: 1.0,
+            },
+            material: 0,
+        });
+        let p = prepare(&scene, Some(&GridConfig::default())).unwrap();
+        assert!(matches!(&p.prims, Prims::Shapes(v) if v.len() == 5));
     }
 }

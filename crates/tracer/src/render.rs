@@ -1,6 +1,7 @@
 //! The public render API: options, the prepared [`Renderer`], the
 //! framebuffer and statistics, and the tile loop (parallel with rayon).
 
+use crate::accel_of::{build_accel, grid_config, with_accel, Accel, AccelOf};
 use crate::camera::CameraModel;
 use crate::error::{Cancelled, SceneError};
 use crate::framebuffer::{Framebuffer, LiveImage, PixelRect};
@@ -13,10 +14,10 @@ use crate::prepare::{prepare, Prepared, Prims};
 use crate::robustness::{with_triangle_test, RayOffset, TriangleTest};
 use crate::sampling::{FilterTable, SampleStream, SamplerKind};
 use crate::scene::{Rgb, Scene};
-use crate::shapes::{Shape, Sphere, Surface};
+use crate::shapes::Surface;
 pub use crate::stats::RenderStats;
 use gridrt_bbox::{Ray, Real, Vec3};
-use gridrt_grid::{Accelerator, CellStorage, Exhaustive, Grid, GridConfig, GridStats, Primitive};
+use gridrt_grid::{Accelerator, Exhaustive, Grid, GridConfig, GridStats};
 use std::fmt;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
@@ -71,36 +72,6 @@ impl Default for RenderOptions {
     }
 }
 
-/// An accelerator over one primitive type.
-#[derive(Debug)]
-#[allow(clippy::large_enum_variant)] // one per renderer
-enum AccelOf<P> {
-    Grid(Grid<P>),
-    Exhaustive(Exhaustive<P>),
-}
-
-/// Runs `$body` with `$a` bound to the concrete accelerator (one
-/// monomorphised copy of the body per accelerator type).
-macro_rules! with_accel {
-    ($accel:expr, |$a:ident| $body:expr) => {
-        match $accel {
-            Accel::Spheres(AccelOf::Grid($a)) => $body,
-            Accel::Spheres(AccelOf::Exhaustive($a)) => $body,
-            Accel::Shapes(AccelOf::Grid($a)) => $body,
-            Accel::Shapes(AccelOf::Exhaustive($a)) => $body,
-        }
-    };
-}
-
-/// The accelerator of a prepared scene: spheres only get the compact
-/// [`Sphere`] primitive, other scenes the [`Shape`] enum.
-#[derive(Debug)]
-#[allow(clippy::large_enum_variant)] // one per renderer
-enum Accel {
-    Spheres(AccelOf<Sphere>),
-    Shapes(AccelOf<Shape>),
-}
-
 /// A scene prepared for rendering: validated, accelerator built, effect
 /// plan derived. Render it as often as needed (it is immutable and `Sync`).
 pub struct Renderer {
@@ -122,12 +93,7 @@ pub struct Renderer {
 impl fmt::Debug for Renderer {
     /// A summary, not the million primitives.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let accel = match &self.accel {
-            Accel::Spheres(AccelOf::Grid(_)) => "grid of spheres",
-            Accel::Spheres(AccelOf::Exhaustive(_)) => "exhaustive over spheres",
-            Accel::Shapes(AccelOf::Grid(_)) => "grid of shapes",
-            Accel::Shapes(AccelOf::Exhaustive(_)) => "exhaustive over shapes",
-        };
+        let accel = self.accel.name();
         f.debug_struct("Renderer")
             .field("accel", &accel)
             .field("primitives", &self.prim_count)
@@ -136,39 +102,6 @@ impl fmt::Debug for Renderer {
             .field("plan", &self.plan)
             .field("build_time", &self.build_time)
             .finish_non_exhaustive()
-    }
-}
-
-/// The grid configuration the options ask for (`None`: exhaustive).
-fn grid_config(options: &RenderOptions, parallel: bool) -> Option<GridConfig> {
-    let mut config = options.grid;
-    if !parallel {
-        config.parallel_build = false;
-    }
-    match options.accel {
-        AccelKind::Grid => Some(config),
-        AccelKind::DenseGrid => {
-            config.storage = CellStorage::Dense;
-            Some(config)
-        }
-        AccelKind::Exhaustive => None,
-    }
-}
-
-/// The accelerator the options ask for (a grid stores the primitives in
-/// cell order).
-fn build_accel<P: Primitive + Send>(
-    prims: Vec<P>,
-    options: &RenderOptions,
-    parallel: bool,
-) -> (AccelOf<P>, Option<GridStats>) {
-    match grid_config(options, parallel) {
-        Some(config) => {
-            let grid = Grid::build(prims, &config);
-            let stats = grid.stats().clone();
-            (AccelOf::Grid(grid), Some(stats))
-        }
-        None => (AccelOf::Exhaustive(Exhaustive::new(prims)), None),
     }
 }
 
@@ -219,6 +152,10 @@ impl Renderer {
                     ),
                 };
                 (Accel::Spheres(a), s)
+            }
+            Prims::Triangles(v) => {
+                let (a, s) = build_accel(v, options, parallel);
+                (Accel::Triangles(a), s)
             }
             Prims::Shapes(v) => {
                 let (a, s) = build_accel(v, options, parallel);

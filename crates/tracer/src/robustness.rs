@@ -65,6 +65,11 @@ impl RayOffset {
 /// [`Shape::Triangle`] becomes a [`Shape::MtTriangle`].
 pub(crate) fn with_triangle_test(prims: Prims, test: TriangleTest) -> Prims {
     match (prims, test) {
+        (Prims::Triangles(v), TriangleTest::MollerTrumbore) => Prims::Shapes(
+            v.into_iter()
+                .map(|t| Shape::MtTriangle(MtTriangle(t)))
+                .collect(),
+        ),
         (Prims::Shapes(v), TriangleTest::MollerTrumbore) => Prims::Shapes(
             v.into_iter()
                 .map(|s| match s {

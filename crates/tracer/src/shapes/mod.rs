@@ -54,8 +54,10 @@ pub(crate) trait Surface: Primitive {
 
 /// The bounded shapes in one enum, for scenes that mix them (static
 /// dispatch, pbrt's `TaggedPointer` idea without the pointer). A scene of
-/// spheres only is rendered with a grid of [`Sphere`] instead, which is more
-/// compact.
+/// spheres only is rendered with a grid of [`Sphere`] instead, and one of
+/// mesh triangles only (planes aside) with a grid of [`Triangle`] (40
+/// bytes a primitive against the enum's 48, and no tag to match): both
+/// more compact.
 #[derive(Clone, Debug)]
 pub enum Shape {
     /// A sphere.

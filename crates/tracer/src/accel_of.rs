@@ -1,0 +1,88 @@
+//! The accelerator a renderer runs, over the compact primitive type its
+//! scene allows, and how the options build it.
+
+use crate::render::{AccelKind, RenderOptions};
+use crate::shapes::{Shape, Sphere, Triangle};
+use gridrt_grid::{CellStorage, Exhaustive, Grid, GridConfig, GridStats, Primitive};
+
+/// An accelerator over one primitive type.
+#[derive(Debug)]
+#[allow(clippy::large_enum_variant)] // one per renderer
+pub(crate) enum AccelOf<P> {
+    Grid(Grid<P>),
+    Exhaustive(Exhaustive<P>),
+}
+
+/// Runs `$body` with `$a` bound to the concrete accelerator (one
+/// monomorphised copy of the body per accelerator type).
+macro_rules! with_accel {
+    ($accel:expr, |$a:ident| $body:expr) => {
+        match $accel {
+            Accel::Spheres(AccelOf::Grid($a)) => $body,
+            Accel::Spheres(AccelOf::Exhaustive($a)) => $body,
+            Accel::Triangles(AccelOf::Grid($a)) => $body,
+            Accel::Triangles(AccelOf::Exhaustive($a)) => $body,
+            Accel::Shapes(AccelOf::Grid($a)) => $body,
+            Accel::Shapes(AccelOf::Exhaustive($a)) => $body,
+        }
+    };
+}
+pub(crate) use with_accel;
+
+/// The accelerator of a prepared scene: spheres only get the compact
+/// [`Sphere`] primitive, mesh triangles only the [`Triangle`] (40 bytes a
+/// primitive, no tag to match), other scenes the [`Shape`] enum (48).
+#[derive(Debug)]
+#[allow(clippy::large_enum_variant)] // one per renderer
+pub(crate) enum Accel {
+    Spheres(AccelOf<Sphere>),
+    Triangles(AccelOf<Triangle>),
+    Shapes(AccelOf<Shape>),
+}
+
+impl Accel {
+    /// What it is, for `Debug`.
+    pub(crate) fn name(&self) -> &'static str {
+        match self {
+            Accel::Spheres(AccelOf::Grid(_)) => "grid of spheres",
+            Accel::Spheres(AccelOf::Exhaustive(_)) => "exhaustive over spheres",
+            Accel::Triangles(AccelOf::Grid(_)) => "grid of triangles",
+            Accel::Triangles(AccelOf::Exhaustive(_)) => "exhaustive over triangles",
+            Accel::Shapes(AccelOf::Grid(_)) => "grid of shapes",
+            Accel::Shapes(AccelOf::Exhaustive(_)) => "exhaustive over shapes",
+        }
+    }
+}
+
+/// The grid configuration the options ask for (`None`: exhaustive).
+pub(crate) fn grid_config(options: &RenderOptions, parallel: bool) -> Option<GridConfig> {
+    let mut config = options.grid;
+    if !parallel {
+        config.parallel_build = false;
+    }
+    match options.accel {
+        AccelKind::Grid => Some(config),
+        AccelKind::DenseGrid => {
+            config.storage = CellStorage::Dense;
+            Some(config)
+        }
+        AccelKind::Exhaustive => None,
+    }
+}
+
+/// The accelerator the options ask for (a grid stores the primitives in
+/// cell order).
+pub(crate) fn build_accel<P: Primitive + Send>(
+    prims: Vec<P>,
+    options: &RenderOptions,
+    parallel: bool,
+) -> (AccelOf<P>, Option<GridStats>) {
+    match grid_config(options, parallel) {
+        Some(config) => {
+            let grid = Grid::build(prims, &config);
+            let stats = grid.stats().clone();
+            (AccelOf::Grid(grid), Some(stats))
+        }
+        None => (AccelOf::Exhaustive(Exhaustive::new(prims)), None),
+    }
+}
