@@ -181,8 +181,10 @@ impl<P: Primitive> Grid<P> {
         P: Send,
     {
         let (start, budget, b) = Self::index(&prims, config);
-        let n = prims.len();
-        Self::assemble(start, budget, b, n, config, |ids| reorder(prims, ids))
+        let parallel = config.parallel_build;
+        Self::assemble(start, budget, b, prims.len(), config, |ids| {
+            reorder(prims, ids, parallel)
+        })
     }
 
     /// [`Grid::build`] over primitives the caller keeps (a scene's shared

@@ -92,4 +92,22 @@ impl<T> SharedMut<T> {
         // SAFETY: guaranteed by the caller.
         unsafe { self.0.add(i).write(v) }
     }
+
+    /// Moves the value at index `i` out (a bitwise read).
+    ///
+    /// # Safety
+    /// `i` must be in bounds and initialised; the value must be read once
+    /// and not dropped in place afterwards, and no thread may write index
+    /// `i` concurrently.
+    #[inline]
+    pub(crate) unsafe fn read(&self, i: usize) -> T {
+        // SAFETY: guaranteed by the caller.
+        unsafe { self.0.add(i).read() }
+    }
+
+    /// Asks the processor to load index `i`, which must be in bounds.
+    #[inline]
+    pub(crate) fn prefetch(&self, i: usize) {
+        crate::mem::prefetch_ptr(self.0.wrapping_add(i));
+    }
 }
