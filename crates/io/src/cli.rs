@@ -441,7 +441,12 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     })?;
 
     let bar = progress_bar();
-    let live = gridrt_tracer::LiveImage::new();
+    // Pixels are kept as they come only for partial images.
+    let live = if a.partial.write_partial.is_some() || a.partial.save_on_interrupt {
+        gridrt_tracer::LiveImage::new()
+    } else {
+        gridrt_tracer::LiveImage::rays_only()
+    };
     let started = Instant::now();
     let progress = |done: u64, total: u64| {
         if let Some(b) = &bar {

@@ -84,6 +84,8 @@ impl Framebuffer {
 pub struct LiveImage {
     state: std::sync::Mutex<LiveState>,
     rays: std::sync::atomic::AtomicU64,
+    /// Counts rays only, keeping no pixels ([`LiveImage::rays_only`]).
+    rays_only: bool,
 }
 
 #[derive(Debug, Default)]
@@ -100,6 +102,18 @@ impl LiveImage {
         Self::default()
     }
 
+    /// A live image that only counts the render's rays (for a progress
+    /// bar): it keeps no copy of the pixels, which would be a second
+    /// framebuffer as large as the render's own, and its
+    /// [`snapshot`](Self::snapshot) is `None`.
+    #[must_use]
+    pub fn rays_only() -> Self {
+        Self {
+            rays_only: true,
+            ..Self::default()
+        }
+    }
+
     /// The state, also after a worker panicked while holding it (a tile's
     /// pixels are copied in whole or not at all; a poisoned lock loses
     /// nothing).
@@ -111,16 +125,22 @@ impl LiveImage {
 
     /// Starts a render of a `width × height` image cut into `tiles`.
     pub(crate) fn start(&self, width: u32, height: u32, tiles: Vec<PixelRect>) {
+        self.rays.store(0, std::sync::atomic::Ordering::Relaxed);
+        if self.rays_only {
+            return;
+        }
         let mut s = self.lock();
         s.image = Some(Framebuffer::new(width, height));
         s.tiles = tiles.into_iter().map(|t| (t, false)).collect();
-        self.rays.store(0, std::sync::atomic::Ordering::Relaxed);
     }
 
     /// Copies a finished tile's pixels (row-major within the tile) in.
     pub(crate) fn finish_tile(&self, index: usize, pixels: &[Rgb], rays: u64) {
         self.rays
             .fetch_add(rays, std::sync::atomic::Ordering::Relaxed);
+        if self.rays_only {
+            return;
+        }
         let mut s = self.lock();
         let LiveState { image, tiles } = &mut *s;
         let (Some(image), Some((r, done))) = (image.as_mut(), tiles.get_mut(index)) else {

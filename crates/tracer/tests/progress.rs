@@ -75,6 +75,12 @@ fn live_image_follows_the_render_and_keeps_an_interrupted_one() {
         assert!(live.missing().is_empty());
         assert_eq!(live.tile_count(), 5 * 3);
         assert_eq!(live.rays(), stats.rays.total());
+        // Counting rays only: the same image and count, no copy of it.
+        let counter = LiveImage::rays_only();
+        let (img, _) = r.render_live(&|_, _| {}, &never, &counter).unwrap();
+        assert_eq!(img, full);
+        assert_eq!(counter.rays(), stats.rays.total());
+        assert!(counter.snapshot().is_none());
 
         // Cancelled after four tiles: what was done is kept, pixel for
         // pixel, and the missing tiles are exactly the black rest.
