@@ -5,7 +5,7 @@
 
 use crate::plan::{EffectPlan, IntegratorKind};
 use crate::sampling::Filter;
-use crate::scene::{Geometry, IntegratorChoice, Light, Material, Rgb, Scene};
+use crate::scene::{Geometry, Light, Material, Rgb, Scene};
 
 /// Where in a scene an ignored request sits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -34,8 +34,6 @@ pub struct Ignored {
 /// (lights, objects, settings). Empty for a scene whose every part plays
 /// its role. They follow the effect plan ([`EffectPlan::for_scene`]):
 ///
-/// - an `Environment` light under `integrator: Whitted`, which shows it
-///   only behind the objects and lights nothing with it;
 /// - `Ambient` lights under the path tracer, which gathers no ambient
 ///   light (its indirect light takes that role);
 /// - ambient occlusion on an ambient light that is black, or that no
@@ -55,30 +53,25 @@ pub fn ignored_effects(scene: &Scene) -> Vec<Ignored> {
     let mut out = Vec::new();
     let mut say = |at, message: String| out.push(Ignored { at, message });
     for (i, l) in scene.lights.iter().enumerate() {
-        match *l {
-            Light::Environment { .. } if scene.settings.integrator == IntegratorChoice::Whitted => {
-                say(Where::Light(i), "`integrator: Whitted` shows an Environment light only behind the objects and lights nothing with it: use `integrator: Path` (or `Auto`) for light from the environment".into());
+        if let Light::Ambient {
+            color,
+            intensity,
+            occlusion,
+        } = *l
+        {
+            let black = color * intensity == Rgb::ZERO;
+            let what = if occlusion.is_some() {
+                "an Ambient light and its occlusion"
+            } else {
+                "an Ambient light"
+            };
+            if path && !black {
+                say(Where::Light(i), format!("the path tracer does not use {what}: its indirect light takes the place of ambient light; use `integrator: Whitted` for ambient light and ambient occlusion"));
+            } else if occlusion.is_some() && black {
+                say(Where::Light(i), "occlusion on a black ambient light (intensity 0 or colour black) is never computed: give it an intensity, or remove the occlusion".into());
+            } else if occlusion.is_some() && !path && !plan.ambient {
+                say(Where::Light(i), "no material in use has an ambient term (`ka` > 0 on Matte, Phong or Reflective, or a MetallicRoughness that is not fully metallic), so the occlusion is never computed: give a material `ka` > 0".into());
             }
-            Light::Ambient {
-                color,
-                intensity,
-                occlusion,
-            } => {
-                let black = color * intensity == Rgb::ZERO;
-                let what = if occlusion.is_some() {
-                    "an Ambient light and its occlusion"
-                } else {
-                    "an Ambient light"
-                };
-                if path && !black {
-                    say(Where::Light(i), format!("the path tracer does not use {what}: its indirect light takes the place of ambient light; use `integrator: Whitted` for ambient light and ambient occlusion"));
-                } else if occlusion.is_some() && black {
-                    say(Where::Light(i), "occlusion on a black ambient light (intensity 0 or colour black) is never computed: give it an intensity, or remove the occlusion".into());
-                } else if occlusion.is_some() && !path && !plan.ambient {
-                    say(Where::Light(i), "no material in use has an ambient term (`ka` > 0 on Matte, Phong or Reflective, or a MetallicRoughness that is not fully metallic), so the occlusion is never computed: give a material `ka` > 0".into());
-                }
-            }
-            _ => {}
         }
     }
     let emissive = |o: &crate::scene::Object| {
@@ -118,7 +111,7 @@ pub fn ignored_effects(scene: &Scene) -> Vec<Ignored> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Camera, Object, Occlusion, Projection, Settings};
+    use crate::scene::{Camera, IntegratorChoice, Object, Occlusion, Projection, Settings};
     use gridrt_bbox::{Real, Vec3};
 
     fn scene(materials: Vec<Material>, lights: Vec<Light>) -> Scene {
@@ -220,17 +213,17 @@ mod tests {
     }
 
     #[test]
-    fn an_environment_under_whitted_is_named() {
+    fn an_environment_lights_both_integrators() {
         let env = Light::Environment {
             color: Rgb::ONE,
             intensity: 1.0,
             image: None,
         };
-        let mut s = scene(vec![matte(0.2)], vec![point(), env]);
-        s.settings.integrator = IntegratorChoice::Whitted;
-        assert_eq!(ats(&s), vec![Where::Light(1)]);
-        s.settings.integrator = IntegratorChoice::Auto;
-        assert_eq!(ats(&s), vec![]);
+        let mut s = scene(vec![matte(0.2)], vec![env]);
+        for integrator in [IntegratorChoice::Whitted, IntegratorChoice::Auto] {
+            s.settings.integrator = integrator;
+            assert_eq!(ats(&s), vec![], "{integrator:?}");
+        }
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! finds and shades hits, and the integrator trait (the Whitted integrator
 //! is in `whitted.rs`, the path tracer in `path.rs`).
 
-use crate::emitters::Emitters;
+use crate::emitters::{Emitter, Emitters};
 use crate::lights::{spot_falloff, AreaLight, Environment};
 pub(crate) use crate::mesh_shading::{MeshRef, MeshShading, PrimMeshes};
 use crate::plan::RayCounts;
@@ -155,8 +155,9 @@ pub(crate) struct SceneData {
     /// The environment light, which replaces `background` when present.
     pub env: Option<Environment>,
     /// Probability that a light sample goes to the environment rather
-    /// than to the area lights (0 without an image environment, 1 without
-    /// area lights).
+    /// than to the area lights: 0 when the environment is not sampled as
+    /// a light (the path tracer samples only an image, Whitted any
+    /// environment when lit surfaces need light), 1 without area lights.
     pub env_pick: Real,
     pub max_depth: u32,
     /// The sampled area lights (emissive primitives, rectangles and disks)
@@ -181,6 +182,20 @@ impl SceneData {
         match &self.env {
             Some(e) => e.radiance(dir.normalize()),
             None => self.background,
+        }
+    }
+
+    /// The sampled area light that `found` is, if it is one (`None` for
+    /// planes and when lights are not sampled).
+    #[inline]
+    pub(crate) fn sampled_emitter(&self, found: Found) -> Option<&Emitter> {
+        match found {
+            Found::Prim(h) => self.emitters.of(h.prim),
+            Found::Area { index, .. } => self
+                .area_lights
+                .get(index as usize)
+                .and_then(|a| self.emitters.get(a.emitter)),
+            Found::Plane { .. } => None,
         }
     }
 }

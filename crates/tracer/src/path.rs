@@ -15,7 +15,7 @@ use crate::bsdf::microfacet::Ggx;
 use crate::bsdf::Micro;
 use crate::emitters::Emitters;
 use crate::float::to_f32;
-use crate::integrator::{face_forward, Found, Integrator, Li, Shading, ThreadState, Tracer};
+use crate::integrator::{face_forward, Integrator, Li, Shading, ThreadState, Tracer};
 use crate::integrator::{point_shadow_t_max, DirectLight, LIGHT_T_MAX};
 use crate::optics::{fresnel_dielectric, reflect, refract};
 use crate::sampling::maps::{cosine_hemisphere, cosine_power_lobe, cosine_power_lobe_pdf, Frame};
@@ -498,15 +498,7 @@ impl Integrator for PathTracer {
                     if sh.sp.n.dot(wo) > 0.0 {
                         let mut w = 1.0;
                         if !specular {
-                            let e = match found {
-                                Found::Prim(h) => data.emitters.of(h.prim),
-                                Found::Area { index, .. } => data
-                                    .area_lights
-                                    .get(index as usize)
-                                    .and_then(|a| data.emitters.get(a.emitter)),
-                                Found::Plane { .. } => None,
-                            };
-                            if let Some(e) = e {
+                            if let Some(e) = data.sampled_emitter(found) {
                                 let pl = (1.0 - data.env_pick)
                                     * Emitters::pdf(e, ray.dir, sh.t, sh.sp.n);
                                 w = power_heuristic(bsdf_pdf, pl);

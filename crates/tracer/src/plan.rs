@@ -371,8 +371,9 @@ impl EffectPlan {
             refraction,
             max_depth: if secondary { depth } else { 0 },
             area_lights: 0,
-            // Soft shadows: area lights sampled at every lit shading point.
-            light_sampling: lit && emitting_geometry,
+            // Soft shadows: area lights and the environment sampled at
+            // every lit shading point.
+            light_sampling: lit && (emitting_geometry || environment),
             // One sampled ray per hit on a rough microfacet surface.
             glossy: microfacet && reflection,
             indirect: false,
@@ -539,6 +540,17 @@ impl fmt::Display for EffectPlan {
         }
         if self.integrator != IntegratorKind::Path && self.light_sampling {
             writeln!(f, "area lights {} sampled (soft shadows)", self.area_lights)?;
+        }
+        if self.integrator != IntegratorKind::Path && self.environment {
+            writeln!(
+                f,
+                "environment {}",
+                if self.env_sampling {
+                    "on (sampled for light and shadows)"
+                } else {
+                    "background only (no surface takes light)"
+                }
+            )?;
         }
         if self.depth_of_field {
             writeln!(f, "lens        thin lens (depth of field)")?;

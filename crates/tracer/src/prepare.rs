@@ -87,9 +87,16 @@ pub(crate) fn prepare(
     );
     data.emitters.finish(prims.len());
     plan.area_lights = data.emitters.list.len() as u32;
-    // The path tracer samples the image; Whitted only sees it.
-    let env_sampled = plan.integrator == IntegratorKind::Path
-        && data.env.as_ref().is_some_and(Environment::sampled);
+    // The path tracer samples an image environment (BSDF sampling finds a
+    // constant one); Whitted samples either kind when the plan samples
+    // lights, since its rays gather no diffuse light.
+    let env_sampled = data.env.as_ref().is_some_and(|e| {
+        if plan.integrator == IntegratorKind::Path {
+            e.sampled()
+        } else {
+            plan.light_sampling
+        }
+    });
     data.env_pick = match (env_sampled, data.emitters.is_empty()) {
         (false, _) => 0.0,
         (true, true) => 1.0,

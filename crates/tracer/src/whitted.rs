@@ -417,13 +417,62 @@ impl<
             s.f * to_f32(s.wi.z.abs() / s.pdf)
         };
         let origin = tr.data.ray_offset.origin(sh.sp.p, sh.sp.p_err, ng, wi);
-        let li = Self::li(tr, &Ray::new(origin, wi), depth + 1, stream, ts);
+        let ray = Ray::new(origin, wi);
+        let li = if AREA && !s.delta {
+            Self::li_unlit(tr, &ray, depth + 1, stream, ts)
+        } else {
+            Self::li(tr, &ray, depth + 1, stream, ts)
+        };
         let inside = sh.sp.n.dot(wi) < 0.0;
         if inside && tint != Rgb::ONE {
             weight * li.color * tint.powf(to_f32(li.t))
         } else {
             weight * li.color
         }
+    }
+
+    /// [`Integrator::li`] for a ray sampled from a rough lobe while lights
+    /// are sampled (`AREA`): the light that sampling gathers at the
+    /// surface the ray left (sampled emitters, and the environment when
+    /// it is sampled) is not counted again where the ray finds it, so
+    /// that direct light is counted once; the ray brings the rest.
+    fn li_unlit<A>(
+        tr: &Tracer<'_, A>,
+        ray: &Ray,
+        depth: u32,
+        stream: &mut SampleStream,
+        ts: &mut ThreadState<A::Scratch>,
+    ) -> Li
+    where
+        A: Accelerator,
+        A::Prim: Surface,
+    {
+        let data = tr.data;
+        let Some(found) = tr.closest(ray, Real::INFINITY, &mut ts.scratch) else {
+            let color = if data.env_pick > 0.0 {
+                Rgb::ZERO
+            } else {
+                data.miss(ray.dir)
+            };
+            return Li {
+                color,
+                t: Real::INFINITY,
+                hit: false,
+            };
+        };
+        let sh = tr.shading(ray, found);
+        if matches!(
+            data.materials[sh.material as usize],
+            Material::Emissive { .. }
+        ) && data.sampled_emitter(found).is_some()
+        {
+            return Li {
+                color: sh.emission,
+                t: sh.t,
+                hit: true,
+            };
+        }
+        Self::shade(tr, ray, Some(&sh), depth, stream, ts)
     }
 
     /// Ambient plus direct lighting with Suffern's BRDFs: Lambert `kd·cd/π`
@@ -458,18 +507,37 @@ impl<
         }
         let brdf = |wi: Vec3| brdf.f(wo, wi, ns);
         if AREA {
-            // One sample of the area lights, chosen by power (Suffern ch. 18
-            // samples each light; choosing one keeps the cost per shading
-            // point constant with many emitting triangles).
+            // One sample of the area lights or the environment, chosen by
+            // `env_pick` and then by power (Suffern ch. 18 samples each
+            // light; choosing one keeps the cost per shading point constant
+            // with many emitting triangles).
             let (u1, u2) = (stream.next_2d().0, stream.next_2d());
-            if let Some(ls) = tr.data.emitters.sample(sp.p, u1, u2) {
-                let cos = ns.dot(ls.wi);
-                if cos > 0.0 && ng.dot(ls.wi) > 0.0 {
-                    let o = tr.data.ray_offset.origin(sp.p, sp.p_err, ng, ls.wi);
-                    ts.counts.light_sample += 1;
-                    let shadow = Ray::new(o, ls.point - o);
-                    if !tr.occluded(&shadow, LIGHT_T_MAX, &mut ts.scratch) {
-                        l += brdf(ls.wi) * ls.radiance * to_f32(cos / ls.pdf);
+            let data = tr.data;
+            if u1 < data.env_pick {
+                if let Some(es) = data.env.as_ref().and_then(|e| e.sample_at(ns, u2)) {
+                    let cos = ns.dot(es.wi);
+                    if cos > 0.0 && ng.dot(es.wi) > 0.0 {
+                        let o = data.ray_offset.origin(sp.p, sp.p_err, ng, es.wi);
+                        ts.counts.light_sample += 1;
+                        if !tr.occluded(&Ray::new(o, es.wi), Real::INFINITY, &mut ts.scratch) {
+                            let pdf = data.env_pick * es.pdf;
+                            l += brdf(es.wi) * es.radiance * to_f32(cos / pdf);
+                        }
+                    }
+                }
+            } else {
+                // The rest of u1 chooses among the area lights.
+                let pick = 1.0 - data.env_pick;
+                let u1 = ((u1 - data.env_pick) / pick).clamp(0.0, 1.0 - Real::EPSILON);
+                if let Some(ls) = data.emitters.sample(sp.p, u1, u2) {
+                    let cos = ns.dot(ls.wi);
+                    if cos > 0.0 && ng.dot(ls.wi) > 0.0 {
+                        let o = data.ray_offset.origin(sp.p, sp.p_err, ng, ls.wi);
+                        ts.counts.light_sample += 1;
+                        let shadow = Ray::new(o, ls.point - o);
+                        if !tr.occluded(&shadow, LIGHT_T_MAX, &mut ts.scratch) {
+                            l += brdf(ls.wi) * ls.radiance * to_f32(cos / (ls.pdf * pick));
+                        }
                     }
                 }
             }

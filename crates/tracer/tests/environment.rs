@@ -1,6 +1,7 @@
 //! The environment light: a white furnace with an image environment, the
 //! closed-form irradiance of a sky above a floor (importance sampling and
-//! MIS weighted right), the plan, and Whitted seeing it as a background.
+//! MIS weighted right) in both integrators, the plan, and Whitted seeing
+//! it behind the objects and lighting with it.
 
 use crate::common::{empty_scene, material, matte, object, render, sphere};
 use gridrt_grid::Vec3;
@@ -99,12 +100,44 @@ fn a_sky_lights_a_floor_with_the_closed_form_radiance() {
         }
     }
     let want = 0.5 / std::f64::consts::PI * e;
-    let mut s = floor(256);
-    s.lights.push(env(w, h, sky));
+    // A floor under a sky takes direct light only: the Whitted tracer owes
+    // the same radiance as the path tracer.
+    for integrator in [IntegratorChoice::Auto, IntegratorChoice::Whitted] {
+        let mut s = floor(256);
+        s.settings.integrator = integrator;
+        s.lights.push(env(w, h, sky));
+        let (img, stats) = render(&s);
+        let got = f64::from(mean(&img).x);
+        assert!(stats.plan.env_sampling, "{integrator:?}");
+        assert!(
+            (got - want).abs() < 0.03 * want,
+            "{integrator:?}: {got} vs {want}"
+        );
+    }
+}
+
+#[test]
+fn whitted_lights_a_convex_surface_by_a_constant_environment_exactly() {
+    // An albedo-1 diffuse sphere filling the view inside a constant
+    // environment: a direction cosine-weighted about the normal makes every
+    // sample exactly the environment's radiance, and nothing occludes it.
+    let mut s = empty_scene(8, 8, Vec3::new(0.0, 0.0, 3.0));
+    s.camera.projection = Projection::Perspective { vfov_deg: 10.0 };
+    s.settings.integrator = IntegratorChoice::Whitted;
+    let m = material(&mut s, matte(Rgb::ONE, 0.0, 1.0));
+    object(&mut s, sphere(Vec3::ZERO, 1.0), m);
+    s.lights.push(Light::Environment {
+        color: Rgb::new(0.2, 0.4, 0.7),
+        intensity: 1.0,
+        image: None,
+    });
     let (img, stats) = render(&s);
-    let got = f64::from(mean(&img).x);
-    assert!(stats.plan.env_sampling);
-    assert!((got - want).abs() < 0.03 * want, "{got} vs {want}");
+    assert_eq!(stats.plan.integrator, IntegratorKind::RayCast);
+    assert!(stats.plan.env_sampling && stats.plan.light_sampling);
+    assert_eq!(stats.rays.light_sample, 64);
+    for p in &img.pixels {
+        assert!((p.x - 0.2).abs() < 1e-4 && (p.z - 0.7).abs() < 1e-4, "{p}");
+    }
 }
 
 #[test]

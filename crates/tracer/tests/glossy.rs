@@ -157,3 +157,42 @@ fn a_rough_conductor_lit_by_a_light_shows_a_highlight() {
         .fold(0.0f32, f32::max);
     assert!(max > 0.5, "{max}");
 }
+
+#[test]
+fn whitted_counts_an_area_light_on_a_rough_lobe_once() {
+    // A rough conductor under a rectangle light, nothing else: the light
+    // reaches the sphere directly, by light sampling and by the glossy ray
+    // alike. Whitted must count it once, as the path tracer does with one
+    // bounce (both see direct light only here).
+    let scene = |integrator| {
+        let mut s = empty_scene(24, 24, Vec3::new(0.0, 0.0, 4.0));
+        s.camera.projection = gridrt_tracer::Projection::Perspective { vfov_deg: 20.0 };
+        s.settings.spp = 64;
+        s.settings.integrator = integrator;
+        s.settings.max_depth = 1;
+        s.settings.path_max_depth = 1;
+        let m = material(&mut s, conductor(Rgb::new(1.0, 0.78, 0.34), 0.35));
+        object(&mut s, sphere(Vec3::ZERO, 0.6), m);
+        s.lights.push(Light::Rect {
+            corner: Vec3::new(-1.0, 2.4, -1.0),
+            edge_u: Vec3::new(2.0, 0.0, 0.0),
+            edge_v: Vec3::new(0.0, 0.0, 2.0),
+            color: Rgb::ONE,
+            intensity: 3.0,
+        });
+        s
+    };
+    let (whitted, stats) = render(&scene(IntegratorChoice::Whitted));
+    assert_eq!(stats.plan.integrator, IntegratorKind::Whitted);
+    assert!(
+        stats.rays.glossy > 0 && stats.rays.light_sample > 0,
+        "{stats}"
+    );
+    let (path, stats) = render(&scene(IntegratorChoice::Path));
+    assert_eq!(stats.plan.integrator, IntegratorKind::Path);
+    let mean = |img: &gridrt_tracer::Framebuffer| {
+        img.pixels.iter().map(|p| f64::from(p.x)).sum::<f64>() / img.pixels.len() as f64
+    };
+    let (w, p) = (mean(&whitted), mean(&path));
+    assert!((w - p).abs() < 0.04 * p, "Whitted {w} vs path {p}");
+}

@@ -171,6 +171,26 @@ impl Environment {
         (pdf > 0.0).then_some(EnvSample { wi, radiance, pdf })
     }
 
+    /// A direction of light arriving at a surface of (unit) normal `n`:
+    /// by the image when it has one ([`Environment::sample`]), else
+    /// cosine-weighted about `n` (Suffern's environment light), which
+    /// makes the estimate of a constant environment on a diffuse surface
+    /// noise-free where nothing occludes it.
+    #[inline]
+    pub(crate) fn sample_at(&self, n: Vec3, u: (Real, Real)) -> Option<EnvSample> {
+        if self.sampled() {
+            return self.sample(u);
+        }
+        let local = crate::sampling::maps::cosine_hemisphere(u);
+        let pdf = crate::sampling::maps::cosine_hemisphere_pdf(local.z);
+        let wi = crate::sampling::maps::Frame::new(n).to_world(local);
+        (pdf > 0.0).then_some(EnvSample {
+            wi,
+            radiance: self.scale,
+            pdf,
+        })
+    }
+
     /// Density per unit solid angle with which [`Environment::sample`]
     /// picks the unit direction `d`.
     #[inline]
