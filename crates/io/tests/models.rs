@@ -407,3 +407,66 @@ fn a_gltf_mesh_placed_once_reaches_the_scene_without_copies() {
         ptrs
     );
 }
+
+#[test]
+fn gltf_transmission_is_glass_of_its_ior_and_volume() {
+    // One triangle drawn with each material in turn.
+    let dir = tempfile::tempdir().unwrap();
+    let bin: Vec<u8> = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    std::fs::write(dir.path().join("t.bin"), &bin).unwrap();
+    let materials = [
+        // Smooth glass of index 1.33 absorbing red: 0.5 left after 2 units.
+        r#"{"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0},
+            "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1},
+                           "KHR_materials_ior": {"ior": 1.33},
+                           "KHR_materials_volume": {"attenuationColor": [0.5, 1, 1], "attenuationDistance": 2}}}"#,
+        // Rough glass of the default index.
+        r#"{"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0.4},
+            "extensions": {"KHR_materials_transmission": {"transmissionFactor": 0.9}}}"#,
+        // Mostly opaque, a metal, and the legacy index 0: not glass / 1.5.
+        r#"{"pbrMetallicRoughness": {"metallicFactor": 0},
+            "extensions": {"KHR_materials_transmission": {"transmissionFactor": 0.3}}}"#,
+        r#"{"extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}}}"#,
+        r#"{"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0},
+            "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1},
+                           "KHR_materials_ior": {"ior": 0}}}"#,
+    ];
+    let prims: Vec<String> = (0..materials.len())
+        .map(|i| format!(r#"{{"attributes": {{"POSITION": 0}}, "material": {i}}}"#))
+        .collect();
+    let json = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}],
+        "extensionsUsed": ["KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume"],
+        "nodes": [{{"mesh": 0}}], "meshes": [{{"primitives": [{}]}}],
+        "materials": [{}],
+        "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}}],
+        "bufferViews": [{{"buffer": 0, "byteLength": 36}}],
+        "buffers": [{{"byteLength": 36, "uri": "t.bin"}}]}}"#,
+        prims.join(", "),
+        materials.join(", ")
+    );
+    let path = dir.path().join("t.gltf");
+    std::fs::write(&path, json).unwrap();
+    let m = load_model(&path).unwrap();
+    let got: Vec<Material> = m.materials.iter().map(|x| x.material.clone()).collect();
+    assert_eq!(got.len(), 5, "{got:?}");
+    let Material::Dielectric { ior, tint } = got[0] else {
+        panic!("{:?}", got[0]);
+    };
+    assert!((ior - 1.33).abs() < 1e-6);
+    assert!(
+        (tint.x - 0.5f32.sqrt()).abs() < 1e-6 && tint.y == 1.0,
+        "{tint}"
+    );
+    assert!(matches!(
+        got[1],
+        Material::RoughDielectric { ior, tint, roughness }
+            if ior == 1.5 && tint == gridrt_tracer::Rgb::ONE && roughness == 0.4
+    ));
+    assert!(matches!(got[2], Material::MetallicRoughness { .. }));
+    assert!(matches!(got[3], Material::MetallicRoughness { .. }));
+    assert!(matches!(got[4], Material::Dielectric { ior, .. } if ior == 1.5));
+}

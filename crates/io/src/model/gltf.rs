@@ -748,6 +748,14 @@ fn assemble(idx: &[u32], mode: Mode) -> Vec<[u32; 3]> {
 /// Maps a glTF metallic-roughness material to ours:
 ///
 /// - emissive factor non-zero without an emissive texture → Emissive;
+/// - `KHR_materials_transmission` with a factor of at least ½ on a
+///   material that is not mostly metal → glass: [`Material::Dielectric`],
+///   or [`Material::RoughDielectric`] when rough, of the index of
+///   `KHR_materials_ior` (1.5 by default) and the absorption of
+///   `KHR_materials_volume` (Beer's law: `attenuationColor` remains after
+///   `attenuationDistance`; clear without it). The blend of a partial
+///   transmission with the opaque BRDF is not modelled: below ½ the
+///   material stays opaque;
 /// - otherwise [`Material::MetallicRoughness`]: the specification's BRDF
 ///   (a Lambertian base and a GGX lobe with `α = roughness²`, blended by
 ///   metalness), its factors multiplied by the metallic-roughness texture
@@ -786,10 +794,49 @@ fn pbr_material(m: &gltf::Material) -> Material {
             strength: max_e,
         };
     }
+    let transmission = m
+        .transmission()
+        .map_or(0.0, |t| finite01(t.transmission_factor()));
+    if transmission >= 0.5 && metallic < 0.5 {
+        return glass(m, roughness);
+    }
     Material::MetallicRoughness {
         base,
         metallic,
         roughness,
+    }
+}
+
+/// The glass of a transmitting glTF material ([`pbr_material`]).
+fn glass(m: &gltf::Material, roughness: f32) -> Material {
+    // glTF allows an index of 1 and up (0 is a legacy "no index").
+    let ior = m
+        .ior()
+        .filter(|i| i.is_finite() && (1.0..=10.0).contains(i))
+        .unwrap_or(1.5);
+    let tint = m.volume().map_or(Rgb::ONE, |v| {
+        let d = v.attenuation_distance();
+        let c = Rgb::from_array(v.attenuation_color().map(|x| {
+            if x.is_finite() {
+                x.clamp(0.0, 1.0)
+            } else {
+                1.0
+            }
+        }));
+        if d.is_finite() && d > 0.0 {
+            c.powf(1.0 / d)
+        } else {
+            Rgb::ONE
+        }
+    });
+    if roughness > 0.0 {
+        Material::RoughDielectric {
+            ior,
+            tint,
+            roughness,
+        }
+    } else {
+        Material::Dielectric { ior, tint }
     }
 }
 
