@@ -60,7 +60,12 @@ pub(crate) fn next_down(x: Real) -> Real {
 /// cannot pull it back. No fixed epsilon: the offset scales with the error.
 /// Unlike pbrt, the ULP step is taken along every axis where `n` is non-zero
 /// even when the error bound is zero, so a point computed exactly still
-/// leaves its surface.
+/// leaves its surface; and a coordinate it moves never ends subnormal: a
+/// point at 0 (an exact hit on a coordinate plane) steps to the smallest
+/// normal number instead of the smallest subnormal, further out on the
+/// same side. Subnormal operands cost the CPU a microcode assist in every
+/// later test of the ray (about 100 cycles each on x86): shadow rays from
+/// such points were several times slower than others.
 #[inline]
 #[must_use]
 pub(crate) fn offset_ray_origin(p: Vec3, p_err: Vec3, n: Vec3, w: Vec3) -> Vec3 {
@@ -69,10 +74,18 @@ pub(crate) fn offset_ray_origin(p: Vec3, p_err: Vec3, n: Vec3, w: Vec3) -> Vec3 
     let dir = n * side;
     let mut po = p + dir * d;
     for a in 0..3 {
+        // Past a subnormal (or zero) the step continues to the smallest
+        // normal number of the same direction.
         if dir[a] > 0.0 {
             po[a] = next_up(po[a]);
+            if po[a].abs() < Real::MIN_POSITIVE {
+                po[a] = Real::MIN_POSITIVE;
+            }
         } else if dir[a] < 0.0 {
             po[a] = next_down(po[a]);
+            if po[a].abs() < Real::MIN_POSITIVE {
+                po[a] = -Real::MIN_POSITIVE;
+            }
         }
     }
     po
@@ -110,5 +123,20 @@ mod tests {
         assert_eq!(exact, Vec3::new(next_up(p.x), 0.0, 0.0));
         let at_zero = offset_ray_origin(Vec3::ZERO, Vec3::ZERO, -Vec3::Y, Vec3::Y);
         assert!(at_zero.y > 0.0 && at_zero.x == 0.0);
+        // Never a subnormal coordinate: from 0 (and from subnormals) the
+        // step goes to the smallest normal number on the chosen side.
+        assert_eq!(at_zero.y, Real::MIN_POSITIVE);
+        let below = offset_ray_origin(Vec3::ZERO, Vec3::ZERO, Vec3::Y, -Vec3::Y);
+        assert_eq!(below.y, -Real::MIN_POSITIVE);
+        let tiny = Vec3::new(0.0, -Real::from_bits(3), 0.0);
+        assert_eq!(
+            offset_ray_origin(tiny, Vec3::ZERO, Vec3::Y, Vec3::Y).y,
+            Real::MIN_POSITIVE
+        );
+        let normal = Vec3::new(0.0, 2.0 * Real::MIN_POSITIVE, 0.0);
+        assert_eq!(
+            offset_ray_origin(normal, Vec3::ZERO, Vec3::Y, -Vec3::Y).y,
+            next_down(normal.y)
+        );
     }
 }

@@ -35,13 +35,15 @@ impl Plane {
             return None;
         }
         let num = (self.point - ray.origin).dot(self.normal);
-        let t = num / denom;
-        // A quotient that underflows to ±0 keeps the sign of the true `t`:
-        // an origin a denormal step above the plane (an offset from a point
-        // at 0) leaving it is behind the plane, not on it.
-        if t == 0.0 && num != 0.0 && (num < 0.0) != (denom < 0.0) && t_min >= 0.0 {
+        // Opposite signs put the plane behind the origin: decided before
+        // dividing, so that a quotient underflowing to -0 cannot pass for
+        // a hit at 0 (an origin a tiny step off the plane, leaving it), and
+        // no subnormal quotient is computed (a microcode assist of about
+        // 100 cycles on x86, for every shadow ray leaving a floor at 0).
+        if num != 0.0 && (num < 0.0) != (denom < 0.0) && t_min >= 0.0 {
             return None;
         }
+        let t = num / denom;
         (t >= t_min && t <= t_max).then_some(t)
     }
 
