@@ -604,6 +604,7 @@ impl<P: Primitive> Grid<P> {
         if !(t_min <= t_max) {
             return None;
         }
+        let data = P::ray_data(ray);
         let mut q = Closest::<P, C, MB> {
             prims: &self.prims,
             ids: &self.ids,
@@ -611,6 +612,7 @@ impl<P: Primitive> Grid<P> {
             children: &self.nested.root,
             subs: &self.nested.subs,
             ray,
+            data: &data,
             t_min,
             t_lim: t_max,
             best: None,
@@ -650,9 +652,10 @@ impl<P: Primitive> Grid<P> {
         if !(t_min <= t_max) {
             return false;
         }
+        let data = P::ray_data(ray);
         for &p in self.unbounded.iter() {
             counters.test();
-            if self.prims[p as usize].any_hit(ray, t_min, t_max) {
+            if self.prims[p as usize].any_hit(ray, &data, t_min, t_max) {
                 return true;
             }
         }
@@ -665,6 +668,7 @@ impl<P: Primitive> Grid<P> {
             children: &self.nested.root,
             subs: &self.nested.subs,
             ray,
+            data: &data,
             t_min,
             t_max,
             stamps: &mut [],
@@ -745,10 +749,12 @@ mod tests {
     struct Ball(Vec3, Real);
 
     impl Primitive for Ball {
+        type RayData = ();
+        fn ray_data(_: &Ray) {}
         fn bounds(&self) -> Aabb {
             Aabb::new(self.0 - Vec3::splat(self.1), self.0 + Vec3::splat(self.1))
         }
-        fn closest_hit(&self, ray: &Ray, t0: Real, t1: Real) -> Option<PrimHit> {
+        fn closest_hit(&self, ray: &Ray, _: &(), t0: Real, t1: Real) -> Option<PrimHit> {
             let oc = ray.origin - self.0;
             let (a, b, c) = (
                 ray.dir.dot(ray.dir),

@@ -7,7 +7,7 @@
 use crate::model::{to_dvec3, to_vec3, Model};
 use glam::DVec3;
 use gridrt_bbox::{Aabb, Ray, Real, Vec3};
-use gridrt_tracer::{Camera, Light, Material, Projection, Rgb, Triangle};
+use gridrt_tracer::{Camera, Light, Material, Projection, Rgb, Shear, Triangle};
 
 /// Most triangles the room test looks at (it tests each against six
 /// rays); a larger model is taken to be an object, not a room.
@@ -41,12 +41,12 @@ pub(crate) fn room_opening(model: &Model) -> Option<DVec3> {
     // million would take 40 MB.
     let first = |dir: DVec3| {
         let d = to_vec3(dir);
-        let ray = Ray::new(c, d);
+        let shear = Shear::new(&Ray::new(c, d));
         let mut best: Option<(Real, Triangle)> = None;
         for [a, b, e] in model.triangles() {
             let t = Triangle::new(a, b, e);
             let far = best.map_or(Real::INFINITY, |b| b.0);
-            if let Some(h) = t.intersect(&ray, 0.0, far) {
+            if let Some(h) = t.intersect(&shear, 0.0, far) {
                 best = Some((h.t, t));
             }
         }
