@@ -3,8 +3,9 @@
 //! is measured against.
 //!
 //! **Invariants.** The grid knows primitives only through the [`Primitive`]
-//! trait (bounds, closest hit, any hit, optional exact box overlap): **no
-//! shapes, no materials, no files**. It owns its primitives, stored once in
+//! trait (bounds, the data a ray test computes once per query, closest hit,
+//! any hit, optional exact box overlap): **no shapes, no materials, no
+//! files**. It owns its primitives, stored once in
 //! cell order, and a hit names the primitive by the caller's index
 //! ([`Hit::prim`]) and by where the grid keeps it ([`Hit::slot`]). Both accelerators
 //! implement [`Accelerator`] and return *exactly* the same answer for every
