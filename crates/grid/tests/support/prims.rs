@@ -193,8 +193,12 @@ impl Shear {
             x[0] * y[2] - y[0] * x[2],
             x[1] * y[0] - y[1] * x[0],
         ];
-        let [neg, pos, zero] = [Lanes::cmplt, Lanes::cmpgt, Lanes::cmpeq]
-            .map(|f| e.iter().fold(0, |m, &e| m | f(e, Lanes::ZERO).bitmask()));
+        let (mut neg, mut pos, mut zero) = (0, 0, 0);
+        for e in e {
+            neg |= e.cmplt(Lanes::ZERO).bitmask();
+            pos |= e.cmpgt(Lanes::ZERO).bitmask();
+            zero |= e.cmpeq(Lanes::ZERO).bitmask();
+        }
         !(neg & pos & !zero) & 0xf
     }
 }
