@@ -604,6 +604,12 @@ impl<P: Primitive> Grid<P> {
         if !(t_min <= t_max) {
             return None;
         }
+        // The primitives' ray data only for a ray that has something to
+        // test: one that enters the grid, or any with unbounded primitives.
+        let dda = Dda::new(&self.geom, ray, t_min, t_max);
+        if dda.is_none() && self.unbounded.is_empty() {
+            return None;
+        }
         let data = P::ray_data(ray);
         let mut q = Closest::<P, C, MB> {
             prims: &self.prims,
@@ -623,7 +629,7 @@ impl<P: Primitive> Grid<P> {
         for &p in self.unbounded.iter() {
             q.test(p);
         }
-        let Some(dda) = Dda::new(&self.geom, ray, t_min, t_max) else {
+        let Some(dda) = dda else {
             return q.best;
         };
         if MB {
@@ -652,6 +658,11 @@ impl<P: Primitive> Grid<P> {
         if !(t_min <= t_max) {
             return false;
         }
+        // Ray data only for a ray with something to test (as in `closest`).
+        let dda = Dda::new(&self.geom, ray, t_min, t_max);
+        if dda.is_none() && self.unbounded.is_empty() {
+            return false;
+        }
         let data = P::ray_data(ray);
         for &p in self.unbounded.iter() {
             counters.test();
@@ -659,7 +670,7 @@ impl<P: Primitive> Grid<P> {
                 return true;
             }
         }
-        let Some(dda) = Dda::new(&self.geom, ray, t_min, t_max) else {
+        let Some(dda) = dda else {
             return false;
         };
         let mut q = AnyHit::<P, C, MB> {
