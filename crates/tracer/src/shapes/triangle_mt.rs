@@ -29,7 +29,7 @@ pub const MT_EPSILON: Real = 1e-6;
 /// use gridrt_grid::{Primitive, Ray, Real, Vec3};
 /// let tri = MtTriangle(Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y));
 /// let ray = Ray::new(Vec3::new(0.25, 0.5, 1.0), -Vec3::Z);
-/// let h = tri.closest_hit(&ray, 0.0, Real::INFINITY).unwrap();
+/// let h = tri.closest_hit(&ray, &(), 0.0, Real::INFINITY).unwrap();
 /// assert_eq!((h.t, h.u, h.v), (1.0, 0.25, 0.5));
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
