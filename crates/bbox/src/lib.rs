@@ -27,7 +27,7 @@ mod ray;
 
 pub use aabb::{Aabb, SlabTest};
 pub use math::{gamma, Real, Vec3};
-pub use ray::{Ray, Shear, ShearLanes};
+pub use ray::Ray;
 
 #[cfg(test)]
 mod tests {

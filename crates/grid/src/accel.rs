@@ -101,6 +101,13 @@ impl Hit {
 /// Queries take a **closed** interval `[t_min, t_max]`: a hit at exactly
 /// `t_min` or `t_max` counts.
 ///
+/// A primitive's ray test may depend on values computed from the ray alone
+/// (a triangle test's permutation and shear of the axes, for instance).
+/// They are its [`RayData`](Self::RayData): an accelerator computes them
+/// once per query with [`ray_data`](Self::ray_data) and hands them, with
+/// the ray, to every test of that query. A primitive without such values
+/// uses `()`. The tests must be given the data of the ray they are given.
+///
 /// For a grid to return exactly what [`crate::Exhaustive`] returns, an
 /// implementation must behave as a function of the ray: `closest_hit`
 /// returns the primitive's nearest hit with `t >= t_min`, filtered by
@@ -111,16 +118,30 @@ impl Hit {
 /// beyond the scene compared with that margin may see a tie resolved
 /// differently near a cell plane).
 pub trait Primitive: Sync {
+    /// What the ray tests compute from the ray alone, once per query
+    /// (`()` when nothing).
+    type RayData;
+
+    /// The [`RayData`](Self::RayData) of `ray`.
+    fn ray_data(ray: &Ray) -> Self::RayData;
+
     /// A box that holds the whole primitive.
     fn bounds(&self) -> Aabb;
 
-    /// The nearest hit with `t` in `[t_min, t_max]`, if any.
-    fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit>;
+    /// The nearest hit with `t` in `[t_min, t_max]`, if any; `data` is
+    /// `Self::ray_data(ray)`.
+    fn closest_hit(
+        &self,
+        ray: &Ray,
+        data: &Self::RayData,
+        t_min: Real,
+        t_max: Real,
+    ) -> Option<PrimHit>;
 
     /// Whether there is any hit with `t` in `[t_min, t_max]` (shadow rays).
     #[inline]
-    fn any_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> bool {
-        self.closest_hit(ray, t_min, t_max).is_some()
+    fn any_hit(&self, ray: &Ray, data: &Self::RayData, t_min: Real, t_max: Real) -> bool {
+        self.closest_hit(ray, data, t_min, t_max).is_some()
     }
 
     /// Whether the primitive may touch the closed box `cell`. The default is
@@ -147,6 +168,7 @@ pub trait Primitive: Sync {
         prims: &[Self],
         refs: &[u32],
         ray: &Ray,
+        data: &Self::RayData,
         t_min: Real,
         mut t_max: Real,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
@@ -154,7 +176,7 @@ pub trait Primitive: Sync {
         Self: Sized,
     {
         for &r in refs {
-            if let Some(h) = prims[r as usize].closest_hit(ray, t_min, t_max) {
+            if let Some(h) = prims[r as usize].closest_hit(ray, data, t_min, t_max) {
                 t_max = keep(r, h);
             }
         }
@@ -167,12 +189,19 @@ pub trait Primitive: Sync {
     /// and stops at the first hit; an override may reject several at once
     /// ([`any_hits_prefiltered`]), but must give the same answer.
     #[inline]
-    fn any_hits(prims: &[Self], refs: &[u32], ray: &Ray, t_min: Real, t_max: Real) -> bool
+    fn any_hits(
+        prims: &[Self],
+        refs: &[u32],
+        ray: &Ray,
+        data: &Self::RayData,
+        t_min: Real,
+        t_max: Real,
+    ) -> bool
     where
         Self: Sized,
     {
         refs.iter()
-            .any(|&r| prims[r as usize].any_hit(ray, t_min, t_max))
+            .any(|&r| prims[r as usize].any_hit(ray, data, t_min, t_max))
     }
 }
 
@@ -192,10 +221,15 @@ pub trait Primitive: Sync {
 /// struct Slab(Real, Real);
 ///
 /// impl Primitive for Slab {
+///     /// Whether the ray moves along x, decided once per query.
+///     type RayData = bool;
+///     fn ray_data(ray: &Ray) -> bool {
+///         ray.dir.x != 0.0
+///     }
 ///     fn bounds(&self) -> Aabb {
 ///         Aabb::new(Vec3::new(self.0, -1.0, -1.0), Vec3::new(self.1, 1.0, 1.0))
 ///     }
-///     fn closest_hit(&self, ray: &Ray, t0: Real, t1: Real) -> Option<PrimHit> {
+///     fn closest_hit(&self, ray: &Ray, _: &bool, t0: Real, t1: Real) -> Option<PrimHit> {
 ///         let t = (self.0 - ray.origin.x) / ray.dir.x;
 ///         (t >= t0 && t <= t1).then_some(PrimHit::new(t, 0.0, 0.0))
 ///     }
@@ -203,30 +237,34 @@ pub trait Primitive: Sync {
 ///         prims: &[Self],
 ///         refs: &[u32],
 ///         ray: &Ray,
+///         moving: &bool,
 ///         t_min: Real,
 ///         t_max: Real,
 ///         keep: &mut impl FnMut(u32, PrimHit) -> Real,
 ///     ) {
 ///         // A ray that does not move along x misses all four at once.
-///         let moving = if ray.dir.x != 0.0 { 0b1111 } else { 0 };
-///         closest_hits_prefiltered(prims, refs, ray, t_min, t_max, keep, |_| moving);
+///         let mask = if *moving { 0b1111 } else { 0 };
+///         closest_hits_prefiltered(prims, refs, ray, moving, t_min, t_max, keep, |_| mask);
 ///     }
 /// }
 ///
 /// let slabs = [Slab(3.0, 4.0), Slab(1.0, 2.0)];
 /// let mut hits = Vec::new();
 /// let ray = Ray::new(Vec3::ZERO, Vec3::X);
-/// Slab::closest_hits(&slabs, &[0, 1], &ray, 0.0, 10.0, &mut |r, h| {
+/// let data = Slab::ray_data(&ray); // once per query
+/// Slab::closest_hits(&slabs, &[0, 1], &ray, &data, 0.0, 10.0, &mut |r, h| {
 ///     hits.push((r, h.t));
 ///     h.t
 /// });
 /// assert_eq!(hits, [(0, 3.0), (1, 1.0)]);
 /// ```
 #[inline(always)]
+#[allow(clippy::too_many_arguments)] // those of `Primitive::closest_hits`, and `may_hit`
 pub fn closest_hits_prefiltered<P: Primitive>(
     prims: &[P],
     refs: &[u32],
     ray: &Ray,
+    data: &P::RayData,
     t_min: Real,
     mut t_max: Real,
     keep: &mut impl FnMut(u32, PrimHit) -> Real,
@@ -239,7 +277,7 @@ pub fn closest_hits_prefiltered<P: Primitive>(
         while pass != 0 {
             let k = pass.trailing_zeros() as usize;
             pass &= pass - 1;
-            if let Some(h) = four[k].closest_hit(ray, t_min, t_max) {
+            if let Some(h) = four[k].closest_hit(ray, data, t_min, t_max) {
                 t_max = keep(chunk[k], h);
             }
         }
@@ -255,6 +293,7 @@ pub fn any_hits_prefiltered<P: Primitive>(
     prims: &[P],
     refs: &[u32],
     ray: &Ray,
+    data: &P::RayData,
     t_min: Real,
     t_max: Real,
     mut may_hit: impl FnMut([&P; 4]) -> u32,
@@ -266,7 +305,7 @@ pub fn any_hits_prefiltered<P: Primitive>(
         while pass != 0 {
             let k = pass.trailing_zeros() as usize;
             pass &= pass - 1;
-            if four[k].any_hit(ray, t_min, t_max) {
+            if four[k].any_hit(ray, data, t_min, t_max) {
                 return true;
             }
         }
@@ -278,7 +317,8 @@ pub fn any_hits_prefiltered<P: Primitive>(
 ///
 /// Every implementation returns the same answer for the same query: the hit
 /// with the smallest `t` in `[t_min, t_max]`, ties going to the lower
-/// primitive index ([`Hit::is_better_than`]).
+/// primitive index ([`Hit::is_better_than`]). A query computes the
+/// primitives' [`Primitive::ray_data`] once and passes it to each test.
 pub trait Accelerator: Sync {
     /// The primitive type.
     type Prim: Primitive;

@@ -13,10 +13,12 @@ use gridrt_bbox::{Ray, Real};
 /// /// A sphere at `c` with radius `r` (just enough for the example).
 /// struct Ball(Vec3, Real);
 /// impl Primitive for Ball {
+///     type RayData = ();
+///     fn ray_data(_: &Ray) {}
 ///     fn bounds(&self) -> Aabb {
 ///         Aabb::new(self.0 - Vec3::splat(self.1), self.0 + Vec3::splat(self.1))
 ///     }
-///     fn closest_hit(&self, ray: &Ray, t0: Real, t1: Real) -> Option<PrimHit> {
+///     fn closest_hit(&self, ray: &Ray, _: &(), t0: Real, t1: Real) -> Option<PrimHit> {
 ///         let oc = ray.origin - self.0;
 ///         let (a, b, c) = (ray.dir.dot(ray.dir), oc.dot(ray.dir), oc.dot(oc) - self.1 * self.1);
 ///         let disc = b * b - a * c;
@@ -77,6 +79,7 @@ impl<P: Primitive> Exhaustive<P> {
         if !(t_min <= t_max) {
             return None;
         }
+        let data = P::ray_data(ray);
         let mut best: Option<Hit> = None;
         let mut t_far = t_max;
         // Blocks of primitives, each tested through `Primitive::closest_hits`
@@ -89,6 +92,7 @@ impl<P: Primitive> Exhaustive<P> {
                 block,
                 &IOTA[..block.len()],
                 ray,
+                &data,
                 t_min,
                 limit,
                 &mut |r, h| {
@@ -118,9 +122,10 @@ impl<P: Primitive> Exhaustive<P> {
             return false;
         }
         // Blocks as in `closest_hit_counted`, through `Primitive::any_hits`.
+        let data = P::ray_data(ray);
         self.prims.chunks(BLOCK).any(|block| {
             counters.tests(block.len());
-            P::any_hits(block, &IOTA[..block.len()], ray, t_min, t_max)
+            P::any_hits(block, &IOTA[..block.len()], ray, &data, t_min, t_max)
         })
     }
 }

@@ -604,6 +604,13 @@ impl<P: Primitive> Grid<P> {
         if !(t_min <= t_max) {
             return None;
         }
+        // The primitives' ray data only for a ray that has something to
+        // test: one that enters the grid, or any with unbounded primitives.
+        let dda = Dda::new(&self.geom, ray, t_min, t_max);
+        if dda.is_none() && self.unbounded.is_empty() {
+            return None;
+        }
+        let data = P::ray_data(ray);
         let mut q = Closest::<P, C, MB> {
             prims: &self.prims,
             ids: &self.ids,
@@ -611,6 +618,7 @@ impl<P: Primitive> Grid<P> {
             children: &self.nested.root,
             subs: &self.nested.subs,
             ray,
+            data: &data,
             t_min,
             t_lim: t_max,
             best: None,
@@ -621,7 +629,7 @@ impl<P: Primitive> Grid<P> {
         for &p in self.unbounded.iter() {
             q.test(p);
         }
-        let Some(dda) = Dda::new(&self.geom, ray, t_min, t_max) else {
+        let Some(dda) = dda else {
             return q.best;
         };
         if MB {
@@ -650,13 +658,19 @@ impl<P: Primitive> Grid<P> {
         if !(t_min <= t_max) {
             return false;
         }
+        // Ray data only for a ray with something to test (as in `closest`).
+        let dda = Dda::new(&self.geom, ray, t_min, t_max);
+        if dda.is_none() && self.unbounded.is_empty() {
+            return false;
+        }
+        let data = P::ray_data(ray);
         for &p in self.unbounded.iter() {
             counters.test();
-            if self.prims[p as usize].any_hit(ray, t_min, t_max) {
+            if self.prims[p as usize].any_hit(ray, &data, t_min, t_max) {
                 return true;
             }
         }
-        let Some(dda) = Dda::new(&self.geom, ray, t_min, t_max) else {
+        let Some(dda) = dda else {
             return false;
         };
         let mut q = AnyHit::<P, C, MB> {
@@ -665,6 +679,7 @@ impl<P: Primitive> Grid<P> {
             children: &self.nested.root,
             subs: &self.nested.subs,
             ray,
+            data: &data,
             t_min,
             t_max,
             stamps: &mut [],
@@ -745,10 +760,12 @@ mod tests {
     struct Ball(Vec3, Real);
 
     impl Primitive for Ball {
+        type RayData = ();
+        fn ray_data(_: &Ray) {}
         fn bounds(&self) -> Aabb {
             Aabb::new(self.0 - Vec3::splat(self.1), self.0 + Vec3::splat(self.1))
         }
-        fn closest_hit(&self, ray: &Ray, t0: Real, t1: Real) -> Option<PrimHit> {
+        fn closest_hit(&self, ray: &Ray, _: &(), t0: Real, t1: Real) -> Option<PrimHit> {
             let oc = ray.origin - self.0;
             let (a, b, c) = (
                 ray.dir.dot(ray.dir),

@@ -3,8 +3,9 @@
 //! is measured against.
 //!
 //! **Invariants.** The grid knows primitives only through the [`Primitive`]
-//! trait (bounds, closest hit, any hit, optional exact box overlap): **no
-//! shapes, no materials, no files**. It owns its primitives, stored once in
+//! trait (bounds, the data a ray test computes once per query, closest hit,
+//! any hit, optional exact box overlap): **no shapes, no materials, no
+//! files**. It owns its primitives, stored once in
 //! cell order, and a hit names the primitive by the caller's index
 //! ([`Hit::prim`]) and by where the grid keeps it ([`Hit::slot`]). Both accelerators
 //! implement [`Accelerator`] and return *exactly* the same answer for every
@@ -22,10 +23,12 @@
 //! struct Ball(Vec3, Real);
 //!
 //! impl Primitive for Ball {
+//!     type RayData = (); // nothing to compute once per ray
+//!     fn ray_data(_: &Ray) {}
 //!     fn bounds(&self) -> Aabb {
 //!         Aabb::new(self.0 - Vec3::splat(self.1), self.0 + Vec3::splat(self.1))
 //!     }
-//!     fn closest_hit(&self, ray: &Ray, t0: Real, t1: Real) -> Option<PrimHit> {
+//!     fn closest_hit(&self, ray: &Ray, _: &(), t0: Real, t1: Real) -> Option<PrimHit> {
 //!         let oc = ray.origin - self.0;
 //!         let (a, b, c) = (ray.dir.dot(ray.dir), oc.dot(ray.dir), oc.dot(oc) - self.1 * self.1);
 //!         let disc = b * b - a * c;

@@ -19,8 +19,10 @@ use gridrt_bbox::Aabb;
 /// use gridrt_grid::{spatial_order, Aabb, PrimHit, Primitive, Ray, Real, Vec3};
 /// struct Dot(Vec3);
 /// impl Primitive for Dot {
+///     type RayData = ();
+///     fn ray_data(_: &Ray) {}
 ///     fn bounds(&self) -> Aabb { Aabb::new(self.0, self.0) }
-///     fn closest_hit(&self, _: &Ray, _: Real, _: Real) -> Option<PrimHit> { None }
+///     fn closest_hit(&self, _: &Ray, _: &(), _: Real, _: Real) -> Option<PrimHit> { None }
 /// }
 /// let dots = [Dot(Vec3::ONE), Dot(Vec3::ZERO), Dot(Vec3::new(1.0, 0.0, 0.0))];
 /// assert_eq!(spatial_order(&dots), vec![1, 2, 0]);

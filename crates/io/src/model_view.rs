@@ -7,7 +7,7 @@
 use crate::model::{to_dvec3, to_vec3, Model};
 use glam::DVec3;
 use gridrt_bbox::{Aabb, Ray, Real, Vec3};
-use gridrt_tracer::{Camera, Light, Material, Projection, Rgb, Triangle};
+use gridrt_tracer::{Camera, Light, Material, Projection, Rgb, Shear, Triangle};
 
 /// Most triangles the room test looks at (it tests each against six
 /// rays); a larger model is taken to be an object, not a room.
@@ -35,24 +35,25 @@ pub(crate) fn room_opening(model: &Model) -> Option<DVec3> {
         return None;
     }
     let c = model.bounds().centroid();
-    // The first face met along `dir`: `Some(true)` when it faces the
-    // centre (counter-clockwise seen from it), `None` for no face. The
-    // triangles are made as they are tested, not kept: a model of a
-    // million would take 40 MB.
-    let first = |dir: DVec3| {
-        let d = to_vec3(dir);
-        let ray = Ray::new(c, d);
-        let mut best: Option<(Real, Triangle)> = None;
-        for [a, b, e] in model.triangles() {
-            let t = Triangle::new(a, b, e);
+    let dirs = AXES.map(to_vec3);
+    let shears = dirs.map(|d| Shear::new(&Ray::new(c, d)));
+    // The first face met along each axis, in one pass over the triangles
+    // (made as they are tested, not kept: a model of a million would take
+    // 40 MB), each tested against the six rays.
+    let mut first: [Option<(Real, Triangle)>; 6] = [None; 6];
+    for [a, b, e] in model.triangles() {
+        let t = Triangle::new(a, b, e);
+        for (shear, best) in shears.iter().zip(&mut first) {
             let far = best.map_or(Real::INFINITY, |b| b.0);
-            if let Some(h) = t.intersect(&ray, 0.0, far) {
-                best = Some((h.t, t));
+            if let Some(h) = t.intersect(shear, 0.0, far) {
+                *best = Some((h.t, t));
             }
         }
-        best.map(|(_, t)| t.area_normal().dot(d) < 0.0)
-    };
-    let seen = AXES.map(first);
+    }
+    // Per axis, `Some(true)` when the first face faces the centre
+    // (counter-clockwise seen from it), `None` for no face.
+    let seen: [Option<bool>; 6] =
+        std::array::from_fn(|i| first[i].map(|(_, t)| t.area_normal().dot(dirs[i]) < 0.0));
     let facing = seen.iter().filter(|&&f| f == Some(true)).count();
     if facing < 5 || seen.contains(&Some(false)) {
         return None;

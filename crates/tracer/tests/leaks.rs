@@ -4,7 +4,7 @@
 
 use gridrt_grid::{Accelerator, Exhaustive, Grid, GridConfig, Hit, PrimHit, Ray, Real, Vec3};
 use gridrt_tracer::hard_meshes::{self, DirLength};
-use gridrt_tracer::{MtTriangle, Triangle};
+use gridrt_tracer::{MtTriangle, Shear, Triangle};
 
 const SCALES: [f64; 3] = [1e-6, 1.0, 1e6];
 const OFFSETS: [f64; 3] = [0.0, 1e3, 1e5];
@@ -68,7 +68,7 @@ fn issue_25_short_direction_hits() {
     let tri = Triangle::new(Vec3::X, Vec3::Y, Vec3::Z);
     for len in [1e-6, 1e-5, 1.0, 1e6] {
         let r = Ray::new(Vec3::ZERO, Vec3::splat(len));
-        let h = tri.intersect(&r, 0.0, Real::INFINITY);
+        let h = tri.intersect(&Shear::new(&r), 0.0, Real::INFINITY);
         assert!(h.is_some(), "direction length {len}");
         let h = h.unwrap();
         assert!((h.t * len * 3.0 - 1.0).abs() < 1e-5, "{h:?} at {len}");
@@ -81,12 +81,17 @@ fn issue_25_short_direction_hits() {
 fn issue_25_power_of_two_scaled_case_is_unchanged() {
     let unit = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
     let r = Ray::new(Vec3::new(0.25, 0.25, 1.0), -Vec3::Z);
-    let h = unit.intersect(&r, 0.0, Real::INFINITY).unwrap();
+    let h = unit
+        .intersect(&Shear::new(&r), 0.0, Real::INFINITY)
+        .unwrap();
     assert_eq!((h.t, h.u, h.v), (1.0, 0.25, 0.25));
     let s = (2.0 as Real).powi(-20); // 9.5367431640625e-7
     let small = Triangle::new(Vec3::ZERO, Vec3::X * s, Vec3::Y * s);
     let r = Ray::new(Vec3::new(0.25, 0.25, 1.0) * s, -Vec3::Z * s);
-    assert_eq!(small.intersect(&r, 0.0, Real::INFINITY), Some(h));
+    assert_eq!(
+        small.intersect(&Shear::new(&r), 0.0, Real::INFINITY),
+        Some(h)
+    );
 }
 
 proptest::proptest! {
@@ -106,9 +111,9 @@ proptest::proptest! {
         let o = Vec3::new(Real::from(o[0]), Real::from(o[1]), Real::from(o[2]));
         let d = Vec3::new(Real::from(d[0]), Real::from(d[1]), Real::from(d[2]));
         let (sk, sj) = ((2.0 as Real).powi(k), (2.0 as Real).powi(j));
-        let a = Triangle::new(v(0), v(1), v(2)).intersect(&Ray::new(o, d), 0.0, Real::INFINITY);
+        let a = Triangle::new(v(0), v(1), v(2)).intersect(&Shear::new(&Ray::new(o, d)), 0.0, Real::INFINITY);
         let b = Triangle::new(v(0) * sk, v(1) * sk, v(2) * sk)
-            .intersect(&Ray::new(o * sk, d * sj), 0.0, Real::INFINITY);
+            .intersect(&Shear::new(&Ray::new(o * sk, d * sj)), 0.0, Real::INFINITY);
         let scaled = a.map(|h| PrimHit { t: h.t * (sk / sj), ..h });
         proptest::prop_assert_eq!(b, scaled);
     }
@@ -184,8 +189,9 @@ fn moller_trumbore_falls_through_a_shared_edge() {
         let r = Ray::new(origin, target - origin);
         let hit = |p: &dyn Fn(&Ray) -> bool| p(&r);
         wt_miss += usize::from(!hit(&|r| {
-            a.intersect(r, 0.0, Real::INFINITY).is_some()
-                || b.intersect(r, 0.0, Real::INFINITY).is_some()
+            let shear = Shear::new(r);
+            a.intersect(&shear, 0.0, Real::INFINITY).is_some()
+                || b.intersect(&shear, 0.0, Real::INFINITY).is_some()
         }));
         mt_miss += usize::from(!hit(&|r| {
             MtTriangle(a).intersect(r, 0.0, Real::INFINITY).is_some()

@@ -24,7 +24,7 @@ pub(super) fn prim_id(ids: &[u32], r: u32) -> u32 {
 }
 
 /// The closest-hit query's per-cell work.
-pub(super) struct Closest<'q, P, C, const MB: bool> {
+pub(super) struct Closest<'q, P: Primitive, C, const MB: bool> {
     /// The grid's primitives in slot order: what the references index.
     pub(super) prims: &'q [P],
     /// The primitive index of each slot.
@@ -37,6 +37,8 @@ pub(super) struct Closest<'q, P, C, const MB: bool> {
     /// Every nested grid.
     pub(super) subs: &'q [Sub],
     pub(super) ray: &'q Ray,
+    /// The primitives' [`Primitive::ray_data`] of `ray`.
+    pub(super) data: &'q P::RayData,
     pub(super) t_min: Real,
     /// `t_max`, then the best hit's t.
     pub(super) t_lim: Real,
@@ -56,7 +58,7 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
         // (checked by `check_invariants`).
         let prim = unsafe { self.prims.get_unchecked(r as usize) };
         self.counters.test();
-        if let Some(h) = prim.closest_hit(self.ray, self.t_min, self.t_lim) {
+        if let Some(h) = prim.closest_hit(self.ray, self.data, self.t_min, self.t_lim) {
             self.keep(Hit::new(h, prim_id(self.ids, r), r));
         }
     }
@@ -90,6 +92,7 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
             children: &sub.children,
             subs: self.subs,
             ray: self.ray,
+            data: self.data,
             t_min: self.t_min,
             t_lim: self.t_lim,
             best: self.best,
@@ -137,9 +140,10 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
     fn test_refs(&mut self, refs: &[u32]) {
         if !MB {
             self.counters.tests(refs.len());
-            let (prims, ids, ray, t_min, t_lim) =
-                (self.prims, self.ids, self.ray, self.t_min, self.t_lim);
-            P::closest_hits(prims, refs, ray, t_min, t_lim, &mut |r, h| {
+            let (prims, ids, ray, data, t_min, t_lim) = (
+                self.prims, self.ids, self.ray, self.data, self.t_min, self.t_lim,
+            );
+            P::closest_hits(prims, refs, ray, data, t_min, t_lim, &mut |r, h| {
                 self.keep(Hit::new(h, prim_id(ids, r), r))
             });
             return;
@@ -160,7 +164,7 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
 }
 
 /// The any-hit query's per-cell work.
-pub(super) struct AnyHit<'q, P, C, const MB: bool> {
+pub(super) struct AnyHit<'q, P: Primitive, C, const MB: bool> {
     /// The grid's primitives in slot order: what the references index.
     pub(super) prims: &'q [P],
     /// The walked grid's references (a cell's nested grid is found by its
@@ -171,6 +175,8 @@ pub(super) struct AnyHit<'q, P, C, const MB: bool> {
     /// Every nested grid.
     pub(super) subs: &'q [Sub],
     pub(super) ray: &'q Ray,
+    /// The primitives' [`Primitive::ray_data`] of `ray`.
+    pub(super) data: &'q P::RayData,
     pub(super) t_min: Real,
     pub(super) t_max: Real,
     pub(super) stamps: &'q mut [u32],
@@ -201,7 +207,9 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
     fn test_refs(&mut self, refs: &[u32]) -> ControlFlow<()> {
         if !MB {
             self.counters.tests(refs.len());
-            return if P::any_hits(self.prims, refs, self.ray, self.t_min, self.t_max) {
+            return if P::any_hits(
+                self.prims, refs, self.ray, self.data, self.t_min, self.t_max,
+            ) {
                 ControlFlow::Break(())
             } else {
                 ControlFlow::Continue(())
@@ -219,7 +227,7 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
             self.counters.test();
             // SAFETY: every stored reference is a valid index into `prims`.
             let prim = unsafe { self.prims.get_unchecked(p as usize) };
-            if prim.any_hit(self.ray, self.t_min, self.t_max) {
+            if prim.any_hit(self.ray, self.data, self.t_min, self.t_max) {
                 return ControlFlow::Break(());
             }
         }
@@ -244,6 +252,7 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
             children: &sub.children,
             subs: self.subs,
             ray: self.ray,
+            data: self.data,
             t_min: self.t_min,
             t_max: self.t_max,
             stamps: &mut *self.stamps,

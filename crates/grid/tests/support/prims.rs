@@ -32,6 +32,11 @@ impl Sphere {
 }
 
 impl Primitive for Sphere {
+    type RayData = ();
+
+    #[inline(always)]
+    fn ray_data(_: &Ray) {}
+
     #[inline(always)]
     fn bounds(&self) -> Aabb {
         let r = Vec3::splat(self.radius);
@@ -39,7 +44,7 @@ impl Primitive for Sphere {
     }
 
     #[inline(always)]
-    fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
+    fn closest_hit(&self, ray: &Ray, _: &(), t_min: Real, t_max: Real) -> Option<PrimHit> {
         let f = ray.origin - self.center;
         let d = ray.dir;
         let a = d.dot(d);
@@ -81,6 +86,7 @@ impl Primitive for Sphere {
         prims: &[Self],
         refs: &[u32],
         ray: &Ray,
+        _: &(),
         t_min: Real,
         t_max: Real,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
@@ -89,7 +95,7 @@ impl Primitive for Sphere {
         let a = d.dot(d);
         let dl = [d.x, d.y, d.z].map(Lanes::splat);
         let (al, aa) = (Lanes::splat(a), Lanes::splat(a * a));
-        closest_hits_prefiltered(prims, refs, ray, t_min, t_max, keep, |four| {
+        closest_hits_prefiltered(prims, refs, ray, &(), t_min, t_max, keep, |four| {
             let m = LaneMat::from_cols_array_2d(
                 &four.map(|s| [s.center.x, s.center.y, s.center.z, s.radius]),
             )
@@ -114,6 +120,86 @@ impl Primitive for Sphere {
         let d2 = (q - self.center).length_squared();
         let r2 = self.radius * self.radius;
         d2 <= r2 * (1.0 + 1e-4) + Real::MIN_POSITIVE
+    }
+}
+
+/// The frame of the watertight triangle test of a ray, computed once per
+/// query (the triangle's `RayData`): the axes permuted so that the largest
+/// direction component is z, `x`, `y` swapped when it is negative (the
+/// winding is kept), and the shear factors that take the direction onto
+/// +z; the origin's permuted coordinates and the factors also in four lanes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shear {
+    /// `[kx, ky, kz]`.
+    axes: [usize; 3],
+    /// `[dir[kx]/dir[kz], dir[ky]/dir[kz], 1/dir[kz]]`.
+    s: [Real; 3],
+    /// `[o[kx], o[ky], o[kz]]`, each in four lanes.
+    origin: [Lanes; 3],
+    /// `[sx, sy]`, each in four lanes.
+    s_lanes: [Lanes; 2],
+}
+
+impl Shear {
+    /// The frame of `ray`.
+    #[inline(always)]
+    pub fn new(ray: &Ray) -> Self {
+        let (d, a) = (ray.dir, ray.dir.abs());
+        let kz = if a.x > a.y {
+            if a.x > a.z {
+                0
+            } else {
+                2
+            }
+        } else if a.y > a.z {
+            1
+        } else {
+            2
+        };
+        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        if d[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let sz = ray.inv_dir[kz];
+        let [sx, sy] = [d[kx] * sz, d[ky] * sz];
+        let o = ray.origin;
+        Self {
+            axes: [kx, ky, kz],
+            s: [sx, sy, sz],
+            origin: [o[kx], o[ky], o[kz]].map(Lanes::splat),
+            s_lanes: [sx, sy].map(Lanes::splat),
+        }
+    }
+
+    /// Of four triangles, given per world axis `k` as each one's lanes
+    /// `(v0[k], v1[k], v2[k], _)`, the mask of those whose edge functions
+    /// do not have both signs with none zero: the first rejection of the
+    /// scalar test, with the same operations in the same order.
+    #[inline(always)]
+    fn triangles_may_hit(&self, coord: impl Fn(usize) -> [Lanes; 4]) -> u32 {
+        let [kx, ky, kz] = self.axes;
+        let [ox, oy, oz] = self.origin;
+        let [sx, sy] = self.s_lanes;
+        let rows = |k: usize| {
+            let [a, b, c, d] = coord(k);
+            let m = LaneMat::from_cols(a, b, c, d).transpose();
+            [m.x_axis, m.y_axis, m.z_axis]
+        };
+        let z = rows(kz).map(|c| c - oz);
+        let [x, y] = [(rows(kx), ox, sx), (rows(ky), oy, sy)]
+            .map(|(c, o, s)| [0, 1, 2].map(|i| (c[i] - o) - s * z[i]));
+        let e = [
+            x[2] * y[1] - y[2] * x[1],
+            x[0] * y[2] - y[0] * x[2],
+            x[1] * y[0] - y[1] * x[0],
+        ];
+        let (mut neg, mut pos, mut zero) = (0, 0, 0);
+        for e in e {
+            neg |= e.cmplt(Lanes::ZERO).bitmask();
+            pos |= e.cmpgt(Lanes::ZERO).bitmask();
+            zero |= e.cmpeq(Lanes::ZERO).bitmask();
+        }
+        !(neg & pos & !zero) & 0xf
     }
 }
 
@@ -157,6 +243,13 @@ impl Triangle {
 }
 
 impl Primitive for Triangle {
+    type RayData = Shear;
+
+    #[inline(always)]
+    fn ray_data(ray: &Ray) -> Shear {
+        Shear::new(ray)
+    }
+
     #[inline(always)]
     fn bounds(&self) -> Aabb {
         let [a, b, c] = self.vertices();
@@ -164,14 +257,15 @@ impl Primitive for Triangle {
     }
 
     #[inline(always)]
-    fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
+    fn closest_hit(&self, _: &Ray, shear: &Shear, t_min: Real, t_max: Real) -> Option<PrimHit> {
         use glam::Vec4Swizzles;
-        let [kx, ky, kz] = ray.shear.axes;
-        let [sx, sy, sz] = ray.shear.s;
-        let o: &[Real; 3] = ray.origin.as_ref();
-        let z = self.lanes(kz) - Lanes::splat(o[kz]);
-        let x = (self.lanes(kx) - Lanes::splat(o[kx])) - Lanes::splat(sx) * z;
-        let y = (self.lanes(ky) - Lanes::splat(o[ky])) - Lanes::splat(sy) * z;
+        let [kx, ky, kz] = shear.axes;
+        let [ox, oy, oz] = shear.origin;
+        let [sx, sy] = shear.s_lanes;
+        let sz = shear.s[2];
+        let z = self.lanes(kz) - oz;
+        let x = (self.lanes(kx) - ox) - sx * z;
+        let y = (self.lanes(ky) - oy) - sy * z;
         // Lanes 0, 1, 2: cx·by − cy·bx, ax·cy − ay·cx, bx·ay − by·ax.
         let mut e = x.zxyw() * y.yzxw() - y.zxyw() * x.yzxw();
         let any3 = |mask: u32| mask & 7 != 0;
@@ -215,12 +309,12 @@ impl Primitive for Triangle {
         prims: &[Self],
         refs: &[u32],
         ray: &Ray,
+        shear: &Shear,
         t_min: Real,
         t_max: Real,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
-        let shear = ray.shear_lanes();
-        closest_hits_prefiltered(prims, refs, ray, t_min, t_max, keep, |four| {
+        closest_hits_prefiltered(prims, refs, ray, shear, t_min, t_max, keep, |four| {
             shear.triangles_may_hit(|k| four.map(|t| t.lanes(k)))
         });
     }
@@ -274,6 +368,14 @@ pub enum Shape {
 }
 
 impl Primitive for Shape {
+    /// The triangles' frame; spheres need nothing.
+    type RayData = Shear;
+
+    #[inline(always)]
+    fn ray_data(ray: &Ray) -> Shear {
+        Shear::new(ray)
+    }
+
     #[inline(always)]
     fn bounds(&self) -> Aabb {
         match self {
@@ -282,10 +384,10 @@ impl Primitive for Shape {
         }
     }
     #[inline(always)]
-    fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
+    fn closest_hit(&self, ray: &Ray, shear: &Shear, t_min: Real, t_max: Real) -> Option<PrimHit> {
         match self {
-            Shape::Sphere(s) => s.closest_hit(ray, t_min, t_max),
-            Shape::Triangle(t) => t.closest_hit(ray, t_min, t_max),
+            Shape::Sphere(s) => s.closest_hit(ray, &(), t_min, t_max),
+            Shape::Triangle(t) => t.closest_hit(ray, shear, t_min, t_max),
         }
     }
     fn overlaps_box(&self, cell: &Aabb) -> bool {

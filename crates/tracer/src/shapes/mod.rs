@@ -12,6 +12,7 @@ mod cuboid;
 mod instance;
 mod overlap;
 mod plane;
+mod shear;
 mod sphere;
 mod triangle;
 mod triangle_mt;
@@ -19,11 +20,11 @@ mod triangle_mt;
 pub use cuboid::Cuboid;
 pub use instance::{Instance, MeshGrid};
 pub use plane::Plane;
+pub use shear::Shear;
 pub use sphere::Sphere;
 pub use triangle::Triangle;
 pub use triangle_mt::{MtTriangle, MT_EPSILON};
 
-use gridrt_bbox::ShearLanes;
 use gridrt_bbox::{Aabb, Ray, Real, Vec3};
 use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primitive};
 
@@ -74,6 +75,15 @@ pub enum Shape {
 }
 
 impl Primitive for Shape {
+    /// The shear frame of the watertight triangles; the other shapes
+    /// compute nothing once per ray.
+    type RayData = Shear;
+
+    #[inline]
+    fn ray_data(ray: &Ray) -> Shear {
+        Shear::new(ray)
+    }
+
     #[inline]
     fn bounds(&self) -> Aabb {
         match self {
@@ -86,24 +96,24 @@ impl Primitive for Shape {
     }
 
     #[inline]
-    fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
+    fn closest_hit(&self, ray: &Ray, shear: &Shear, t_min: Real, t_max: Real) -> Option<PrimHit> {
         match self {
-            Shape::Sphere(s) => s.closest_hit(ray, t_min, t_max),
-            Shape::Cuboid(c) => c.closest_hit(ray, t_min, t_max),
-            Shape::Triangle(t) => t.closest_hit(ray, t_min, t_max),
-            Shape::MtTriangle(t) => t.closest_hit(ray, t_min, t_max),
-            Shape::Instance(i) => i.closest_hit(ray, t_min, t_max),
+            Shape::Sphere(s) => s.closest_hit(ray, &(), t_min, t_max),
+            Shape::Cuboid(c) => c.closest_hit(ray, &(), t_min, t_max),
+            Shape::Triangle(t) => t.closest_hit(ray, shear, t_min, t_max),
+            Shape::MtTriangle(t) => t.closest_hit(ray, &(), t_min, t_max),
+            Shape::Instance(i) => i.closest_hit(ray, &(), t_min, t_max),
         }
     }
 
     #[inline]
-    fn any_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> bool {
+    fn any_hit(&self, ray: &Ray, shear: &Shear, t_min: Real, t_max: Real) -> bool {
         match self {
-            Shape::Sphere(s) => s.any_hit(ray, t_min, t_max),
-            Shape::Cuboid(c) => c.any_hit(ray, t_min, t_max),
-            Shape::Triangle(t) => t.any_hit(ray, t_min, t_max),
-            Shape::MtTriangle(t) => t.any_hit(ray, t_min, t_max),
-            Shape::Instance(i) => i.any_hit(ray, t_min, t_max),
+            Shape::Sphere(s) => s.any_hit(ray, &(), t_min, t_max),
+            Shape::Cuboid(c) => c.any_hit(ray, &(), t_min, t_max),
+            Shape::Triangle(t) => t.any_hit(ray, shear, t_min, t_max),
+            Shape::MtTriangle(t) => t.any_hit(ray, &(), t_min, t_max),
+            Shape::Instance(i) => i.any_hit(ray, &(), t_min, t_max),
         }
     }
 
@@ -114,22 +124,28 @@ impl Primitive for Shape {
         prims: &[Self],
         refs: &[u32],
         ray: &Ray,
+        shear: &Shear,
         t_min: Real,
         t_max: Real,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
-        let shear = ray.shear_lanes();
-        closest_hits_prefiltered(prims, refs, ray, t_min, t_max, keep, |four| {
-            Shape::may_hit(&shear, four)
+        closest_hits_prefiltered(prims, refs, ray, shear, t_min, t_max, keep, |four| {
+            Shape::may_hit(shear, four)
         });
     }
 
     /// Four at a time where all four are watertight triangles.
     #[inline]
-    fn any_hits(prims: &[Self], refs: &[u32], ray: &Ray, t_min: Real, t_max: Real) -> bool {
-        let shear = ray.shear_lanes();
-        any_hits_prefiltered(prims, refs, ray, t_min, t_max, |four| {
-            Shape::may_hit(&shear, four)
+    fn any_hits(
+        prims: &[Self],
+        refs: &[u32],
+        ray: &Ray,
+        shear: &Shear,
+        t_min: Real,
+        t_max: Real,
+    ) -> bool {
+        any_hits_prefiltered(prims, refs, ray, shear, t_min, t_max, |four| {
+            Shape::may_hit(shear, four)
         })
     }
 
@@ -151,7 +167,7 @@ impl Shape {
     /// reject most of a cell's triangles at once, as [`Triangle`]'s own
     /// queries do; mixed chunks are all tested one shape at a time.
     #[inline(always)]
-    fn may_hit(shear: &ShearLanes, four: [&Shape; 4]) -> u32 {
+    fn may_hit(shear: &Shear, four: [&Shape; 4]) -> u32 {
         match four {
             [Shape::Triangle(a), Shape::Triangle(b), Shape::Triangle(c), Shape::Triangle(d)] => {
                 shear.triangles_may_hit(|k| [a, b, c, d].map(|t| t.lanes(k)))

@@ -17,7 +17,7 @@ use gridrt_grid::{closest_hits_prefiltered, PrimHit, Primitive};
 /// use gridrt_tracer::Sphere;
 /// use gridrt_grid::{Primitive, Ray, Real, Vec3};
 /// let s = Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0);
-/// let h = s.closest_hit(&Ray::new(Vec3::ZERO, -Vec3::Z), 0.0, Real::INFINITY).unwrap();
+/// let h = s.closest_hit(&Ray::new(Vec3::ZERO, -Vec3::Z), &(), 0.0, Real::INFINITY).unwrap();
 /// assert_eq!(h.t, 4.0);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -97,6 +97,12 @@ impl Sphere {
 }
 
 impl Primitive for Sphere {
+    /// Nothing is computed once per ray.
+    type RayData = ();
+
+    #[inline]
+    fn ray_data(_: &Ray) {}
+
     /// The centre ± radius, widened by the rounding of the two additions, so
     /// the box holds every point of the sphere.
     #[inline]
@@ -107,13 +113,13 @@ impl Primitive for Sphere {
     }
 
     #[inline]
-    fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
+    fn closest_hit(&self, ray: &Ray, _: &(), t_min: Real, t_max: Real) -> Option<PrimHit> {
         self.intersect(ray, t_min, t_max)
             .map(|t| PrimHit::new(t, 0.0, 0.0))
     }
 
     #[inline]
-    fn any_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> bool {
+    fn any_hit(&self, ray: &Ray, _: &(), t_min: Real, t_max: Real) -> bool {
         self.intersect(ray, t_min, t_max).is_some()
     }
 
@@ -127,6 +133,7 @@ impl Primitive for Sphere {
         prims: &[Self],
         refs: &[u32],
         ray: &Ray,
+        _: &(),
         t_min: Real,
         t_max: Real,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
@@ -135,7 +142,7 @@ impl Primitive for Sphere {
         let [dx, dy, dz] = [d.x, d.y, d.z].map(Lanes::splat);
         let a = Lanes::splat(d.dot(d));
         let slack = Lanes::splat(1.0 + gamma(8));
-        closest_hits_prefiltered(prims, refs, ray, t_min, t_max, keep, |four| {
+        closest_hits_prefiltered(prims, refs, ray, &(), t_min, t_max, keep, |four| {
             let c = LaneMat::from_cols_array_2d(
                 &four.map(|s| [s.center.x, s.center.y, s.center.z, s.radius]),
             )
@@ -254,10 +261,10 @@ mod tests {
             t_max
         };
         if batched {
-            Sphere::closest_hits(spheres, refs, ray, 0.0, t_max, &mut keep);
+            Sphere::closest_hits(spheres, refs, ray, &(), 0.0, t_max, &mut keep);
         } else {
             for &r in refs {
-                if let Some(h) = spheres[r as usize].closest_hit(ray, 0.0, t_max) {
+                if let Some(h) = spheres[r as usize].closest_hit(ray, &(), 0.0, t_max) {
                     keep(r, h);
                 }
             }

@@ -1,4 +1,4 @@
-use super::{overlap, unit_or, Surface, SurfacePoint};
+use super::{overlap, unit_or, Shear, Surface, SurfacePoint};
 use gridrt_bbox::math::Lanes;
 use gridrt_bbox::{gamma, Aabb, Ray, Real, Vec3};
 use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primitive};
@@ -7,7 +7,7 @@ use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primi
 ///
 /// The ray test is **watertight** (Woop, Benthin & Wald, "Watertight
 /// Ray/Triangle Intersection", JCGT 2013): the vertices are moved into the
-/// ray's [`Shear`](gridrt_bbox::Shear) frame, where the ray is the +z axis
+/// ray's [`Shear`] frame, where the ray is the +z axis
 /// (translate, permute so that the largest direction component is z,
 /// shear), and the three 2D edge functions decide the hit by their signs. A
 /// ray through an edge or vertex shared by two triangles hits at least one
@@ -19,7 +19,9 @@ use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primi
 /// The vertices are stored coordinate by coordinate (the three x, the
 /// three y, the three z), so that the test transforms all three vertices at
 /// once in 4-lane vectors: one load, subtraction and shear per coordinate,
-/// and the three edge functions in one vector product.
+/// and the three edge functions in one vector product. The frame depends
+/// on the ray alone: an accelerator computes it once per query (it is the
+/// triangle's [`Primitive::RayData`]) and hands it to every test.
 ///
 /// A hit reports barycentrics `u`, `v`: the weights of `p1` and `p2` (the
 /// hit point is `(1 − u − v)·p0 + u·p1 + v·p2`). A hit needs `t > 0` and
@@ -30,11 +32,13 @@ use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primi
 /// leaves it because its origin is offset by the hit point's error bound.
 ///
 /// ```
-/// use gridrt_tracer::Triangle;
+/// use gridrt_tracer::{Shear, Triangle};
 /// use gridrt_grid::{Primitive, Ray, Real, Vec3};
 /// let tri = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
 /// let ray = Ray::new(Vec3::new(0.25, 0.5, 1.0), -Vec3::Z);
-/// let h = tri.closest_hit(&ray, 0.0, Real::INFINITY).unwrap();
+/// let shear = Triangle::ray_data(&ray); // once per ray: `Shear::new(&ray)`
+/// assert_eq!(shear, Shear::new(&ray));
+/// let h = tri.closest_hit(&ray, &shear, 0.0, Real::INFINITY).unwrap();
 /// assert_eq!((h.t, h.u, h.v), (1.0, 0.25, 0.5));
 /// assert_eq!(tri.vertices(), [Vec3::ZERO, Vec3::X, Vec3::Y]);
 /// ```
@@ -113,20 +117,22 @@ impl Triangle {
         Lanes::from_slice(&self.c[3 * k..3 * k + 4])
     }
 
-    /// The watertight test: `(t, u, v)` of a hit with `t > 0` in
+    /// The watertight test of the ray whose frame is `shear`
+    /// ([`Shear::new`] of the ray): `(t, u, v)` of a hit with `t > 0` in
     /// `[t_min, t_max]`.
     #[inline]
     #[must_use]
-    pub fn intersect(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
+    pub fn intersect(&self, shear: &Shear, t_min: Real, t_max: Real) -> Option<PrimHit> {
         use glam::Vec4Swizzles;
         // The vertices relative to the origin, permuted and sheared: lane i
         // of x, y, z is vertex i. z stays unscaled until a hit needs it.
-        let [kx, ky, kz] = ray.shear.axes;
-        let [sx, sy, sz] = ray.shear.s;
-        let o: &[Real; 3] = ray.origin.as_ref();
-        let z = self.lanes(kz) - Lanes::splat(o[kz]);
-        let x = (self.lanes(kx) - Lanes::splat(o[kx])) - Lanes::splat(sx) * z;
-        let y = (self.lanes(ky) - Lanes::splat(o[ky])) - Lanes::splat(sy) * z;
+        let [kx, ky, kz] = shear.axes;
+        let [ox, oy, oz] = shear.origin;
+        let [sx, sy] = shear.s_lanes;
+        let sz = shear.s[2];
+        let z = self.lanes(kz) - oz;
+        let x = (self.lanes(kx) - ox) - sx * z;
+        let y = (self.lanes(ky) - oy) - sy * z;
         // Scaled barycentrics, the 2D edge functions: lane 0 is
         // cx·by − cy·bx, lane 1 ax·cy − ay·cx, lane 2 bx·ay − by·ax.
         let e = x.zxyw() * y.yzxw() - y.zxyw() * x.yzxw();
@@ -246,6 +252,14 @@ fn hit_from_edges(x: Lanes, y: Lanes, z: Lanes, sz: Real, e: Lanes) -> Option<(R
 }
 
 impl Primitive for Triangle {
+    /// The ray's shear frame.
+    type RayData = Shear;
+
+    #[inline]
+    fn ray_data(ray: &Ray) -> Shear {
+        Shear::new(ray)
+    }
+
     #[inline]
     fn bounds(&self) -> Aabb {
         let [p0, p1, p2] = self.vertices();
@@ -253,8 +267,8 @@ impl Primitive for Triangle {
     }
 
     #[inline]
-    fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
-        self.intersect(ray, t_min, t_max)
+    fn closest_hit(&self, _: &Ray, shear: &Shear, t_min: Real, t_max: Real) -> Option<PrimHit> {
+        self.intersect(shear, t_min, t_max)
     }
 
     /// Four triangles at a time: the edge functions of `closest_hit` in
@@ -267,12 +281,12 @@ impl Primitive for Triangle {
         prims: &[Self],
         refs: &[u32],
         ray: &Ray,
+        shear: &Shear,
         t_min: Real,
         t_max: Real,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
-        let shear = ray.shear_lanes();
-        closest_hits_prefiltered(prims, refs, ray, t_min, t_max, keep, |four| {
+        closest_hits_prefiltered(prims, refs, ray, shear, t_min, t_max, keep, |four| {
             shear.triangles_may_hit(|k| four.map(|t| t.lanes(k)))
         });
     }
@@ -280,9 +294,15 @@ impl Primitive for Triangle {
     /// Four triangles at a time, rejected by their edge functions in lanes
     /// as in `closest_hits`.
     #[inline]
-    fn any_hits(prims: &[Self], refs: &[u32], ray: &Ray, t_min: Real, t_max: Real) -> bool {
-        let shear = ray.shear_lanes();
-        any_hits_prefiltered(prims, refs, ray, t_min, t_max, |four| {
+    fn any_hits(
+        prims: &[Self],
+        refs: &[u32],
+        ray: &Ray,
+        shear: &Shear,
+        t_min: Real,
+        t_max: Real,
+    ) -> bool {
+        any_hits_prefiltered(prims, refs, ray, shear, t_min, t_max, |four| {
             shear.triangles_may_hit(|k| four.map(|t| t.lanes(k)))
         })
     }
@@ -338,6 +358,11 @@ mod tests {
         Ray::new(Vec3::from_array(o), Vec3::from_array(d))
     }
 
+    /// The shear frame of the ray from `o` along `d`.
+    fn frame(o: [Real; 3], d: [Real; 3]) -> Shear {
+        Shear::new(&ray(o, d))
+    }
+
     #[test]
     fn barycentrics_are_weights_of_p1_and_p2() {
         let tri = Triangle::new(
@@ -346,14 +371,22 @@ mod tests {
             Vec3::new(0.0, 4.0, -2.0),
         );
         let h = tri
-            .intersect(&ray([1.0, 2.0, 0.0], [0.0, 0.0, -1.0]), 0.0, Real::INFINITY)
+            .intersect(
+                &frame([1.0, 2.0, 0.0], [0.0, 0.0, -1.0]),
+                0.0,
+                Real::INFINITY,
+            )
             .unwrap();
         assert_eq!((h.t, h.u, h.v), (2.0, 0.25, 0.5));
         // Either winding, either side.
         let [p0, p1, p2] = tri.vertices();
         let back = Triangle::new(p0, p2, p1);
         let h = back
-            .intersect(&ray([1.0, 2.0, -5.0], [0.0, 0.0, 1.0]), 0.0, Real::INFINITY)
+            .intersect(
+                &frame([1.0, 2.0, -5.0], [0.0, 0.0, 1.0]),
+                0.0,
+                Real::INFINITY,
+            )
             .unwrap();
         assert_eq!((h.t, h.u, h.v), (3.0, 0.5, 0.25));
     }
@@ -365,16 +398,16 @@ mod tests {
             Vec3::new(1.0, -1.0, -1.0),
             Vec3::new(0.0, 1.0, -1.0),
         );
-        let r = ray([0.0, 0.0, 0.0], [0.0, 0.0, -1.0]);
+        let r = frame([0.0, 0.0, 0.0], [0.0, 0.0, -1.0]);
         assert!(tri.intersect(&r, 0.0, 1.0).is_some());
         assert!(tri.intersect(&r, 1.0, 1.0).is_some());
         assert!(tri.intersect(&r, 0.0, 0.999).is_none());
         assert!(tri
-            .intersect(&ray([5.0, 0.0, 0.0], [0.0, 0.0, -1.0]), 0.0, 10.0)
+            .intersect(&frame([5.0, 0.0, 0.0], [0.0, 0.0, -1.0]), 0.0, 10.0)
             .is_none());
         // Behind the origin.
         assert!(tri
-            .intersect(&ray([0.0, 0.0, -3.0], [0.0, 0.0, -1.0]), 0.0, 10.0)
+            .intersect(&frame([0.0, 0.0, -3.0], [0.0, 0.0, -1.0]), 0.0, 10.0)
             .is_none());
     }
 
@@ -395,7 +428,7 @@ mod tests {
                 [0.0, 0.0, 0.0],
                 [1.0, 2.0, 1.0],
             ] {
-                let r = ray(o, d);
+                let r = frame(o, d);
                 assert!(line
                     .intersect(&r, -Real::INFINITY, Real::INFINITY)
                     .is_none());
@@ -406,11 +439,11 @@ mod tests {
         }
         let tri = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
         assert!(tri
-            .intersect(&ray([0.1, 0.1, 1.0], [0.0, 0.0, 0.0]), 0.0, 10.0)
+            .intersect(&frame([0.1, 0.1, 1.0], [0.0, 0.0, 0.0]), 0.0, 10.0)
             .is_none());
         // A ray in the triangle's plane sees it edge-on.
         assert!(tri
-            .intersect(&ray([-1.0, 0.1, 0.0], [1.0, 0.0, 0.0]), 0.0, 10.0)
+            .intersect(&frame([-1.0, 0.1, 0.0], [1.0, 0.0, 0.0]), 0.0, 10.0)
             .is_none());
     }
 
@@ -432,9 +465,10 @@ mod tests {
             let s = i as Real / 1000.0;
             let r = ray([s, s, 3.0], [0.0137, -0.021, -1.0]);
             let o = Vec3::new(s, s, 0.0) - r.dir * 3.0;
-            let r = Ray::new(o, r.dir);
+            let shear = Shear::new(&Ray::new(o, r.dir));
             assert!(
-                a.intersect(&r, 0.0, 10.0).is_some() || b.intersect(&r, 0.0, 10.0).is_some(),
+                a.intersect(&shear, 0.0, 10.0).is_some()
+                    || b.intersect(&shear, 0.0, 10.0).is_some(),
                 "fell through the shared edge at s = {s}"
             );
         }
@@ -449,14 +483,14 @@ mod tests {
         );
         // A ray starting on the triangle and leaving it at a slant.
         let r = ray([0.1, 0.1, 0.0], [0.3, 0.2, 1.0]);
-        assert!(tri.intersect(&r, 0.0, 10.0).is_none());
+        assert!(tri.intersect(&Shear::new(&r), 0.0, 10.0).is_none());
     }
 
     #[test]
     fn surface_gives_front_normal_and_error() {
         let tri = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
         let r = ray([0.2, 0.3, 5.0], [0.0, 0.0, -1.0]);
-        let h = tri.intersect(&r, 0.0, 10.0).unwrap();
+        let h = tri.intersect(&Shear::new(&r), 0.0, 10.0).unwrap();
         let sp = tri.surface(&r, &h);
         assert_eq!(sp.n, Vec3::Z);
         assert!((sp.p - Vec3::new(0.2, 0.3, 0.0)).length() < 1e-6);
@@ -479,6 +513,7 @@ mod tests {
             let origin = Vec3::new(o[0] as Real, o[1] as Real, o[2] as Real + 5.0);
             let target = Vec3::new(through[0] as Real, through[1] as Real, through[2] as Real) * 0.5;
             let r = Ray::new(origin, target - origin);
+            let shear = Shear::new(&r);
             let all = |batched: bool| {
                 let mut hits = Vec::new();
                 let mut keep = |i: u32, h: PrimHit| {
@@ -486,10 +521,10 @@ mod tests {
                     Real::INFINITY
                 };
                 if batched {
-                    Triangle::closest_hits(&tris, &refs, &r, 0.0, Real::INFINITY, &mut keep);
+                    Triangle::closest_hits(&tris, &refs, &r, &shear, 0.0, Real::INFINITY, &mut keep);
                 } else {
                     for (i, t) in tris.iter().enumerate() {
-                        if let Some(h) = t.closest_hit(&r, 0.0, Real::INFINITY) {
+                        if let Some(h) = t.closest_hit(&r, &shear, 0.0, Real::INFINITY) {
                             keep(i as u32, h);
                         }
                     }
@@ -500,8 +535,8 @@ mod tests {
             // Shadow rays: the batched any-hit answers as one at a time,
             // over the segment up to each hit and beyond.
             for t_max in [Real::INFINITY, 5.0, 4.5] {
-                let one = tris.iter().any(|t| t.any_hit(&r, 0.0, t_max));
-                proptest::prop_assert_eq!(Triangle::any_hits(&tris, &refs, &r, 0.0, t_max), one);
+                let one = tris.iter().any(|t| t.any_hit(&r, &shear, 0.0, t_max));
+                proptest::prop_assert_eq!(Triangle::any_hits(&tris, &refs, &r, &shear, 0.0, t_max), one);
             }
         }
 
@@ -526,20 +561,21 @@ mod tests {
             let origin = Vec3::new(o[0] as Real, o[1] as Real, o[2] as Real + 5.0);
             let target = Vec3::new(through[0] as Real, through[1] as Real, through[2] as Real) * 0.5;
             let r = Ray::new(origin, target - origin);
+            let shear = Shear::new(&r);
             let mut batched = Vec::new();
-            Shape::closest_hits(&shapes, &refs, &r, 0.0, Real::INFINITY, &mut |i, h| {
+            Shape::closest_hits(&shapes, &refs, &r, &shear, 0.0, Real::INFINITY, &mut |i, h| {
                 batched.push((i, h));
                 Real::INFINITY
             });
             let one: Vec<(u32, PrimHit)> = shapes
                 .iter()
                 .enumerate()
-                .filter_map(|(i, s)| s.closest_hit(&r, 0.0, Real::INFINITY).map(|h| (i as u32, h)))
+                .filter_map(|(i, s)| s.closest_hit(&r, &shear, 0.0, Real::INFINITY).map(|h| (i as u32, h)))
                 .collect();
             proptest::prop_assert_eq!(batched, one);
             for t_max in [Real::INFINITY, 5.0, 4.5] {
-                let one = shapes.iter().any(|s| s.any_hit(&r, 0.0, t_max));
-                proptest::prop_assert_eq!(Shape::any_hits(&shapes, &refs, &r, 0.0, t_max), one);
+                let one = shapes.iter().any(|s| s.any_hit(&r, &shear, 0.0, t_max));
+                proptest::prop_assert_eq!(Shape::any_hits(&shapes, &refs, &r, &shear, 0.0, t_max), one);
             }
         }
     }

@@ -29,7 +29,7 @@ pub const MT_EPSILON: Real = 1e-6;
 /// use gridrt_grid::{Primitive, Ray, Real, Vec3};
 /// let tri = MtTriangle(Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y));
 /// let ray = Ray::new(Vec3::new(0.25, 0.5, 1.0), -Vec3::Z);
-/// let h = tri.closest_hit(&ray, 0.0, Real::INFINITY).unwrap();
+/// let h = tri.closest_hit(&ray, &(), 0.0, Real::INFINITY).unwrap();
 /// assert_eq!((h.t, h.u, h.v), (1.0, 0.25, 0.5));
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -71,13 +71,19 @@ impl MtTriangle {
 }
 
 impl Primitive for MtTriangle {
+    /// Nothing is computed once per ray.
+    type RayData = ();
+
+    #[inline]
+    fn ray_data(_: &Ray) {}
+
     #[inline]
     fn bounds(&self) -> Aabb {
         self.0.bounds()
     }
 
     #[inline]
-    fn closest_hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<PrimHit> {
+    fn closest_hit(&self, ray: &Ray, _: &(), t_min: Real, t_max: Real) -> Option<PrimHit> {
         self.intersect(ray, t_min, t_max)
     }
 
@@ -97,6 +103,7 @@ impl Surface for MtTriangle {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Shear;
     use gridrt_bbox::Vec3;
 
     #[test]
@@ -107,7 +114,7 @@ mod tests {
             Vec3::new(0.0, 4.0, -2.0),
         );
         let r = Ray::new(Vec3::new(1.0, 2.0, 0.0), Vec3::new(0.0, 0.0, -1.0));
-        let a = tri.intersect(&r, 0.0, Real::INFINITY).unwrap();
+        let a = tri.intersect(&Shear::new(&r), 0.0, Real::INFINITY).unwrap();
         let b = MtTriangle(tri).intersect(&r, 0.0, Real::INFINITY).unwrap();
         assert_eq!((a.t, a.u, a.v), (b.t, b.u, b.v));
         assert!(MtTriangle(tri).intersect(&r, 0.0, 1.5).is_none());
@@ -122,7 +129,9 @@ mod tests {
         let s = (2.0 as Real).powi(-12);
         let tri = Triangle::new(Vec3::ZERO, Vec3::X * s, Vec3::Y * s);
         let r = Ray::new(Vec3::new(0.25 * s, 0.25 * s, 1.0), -Vec3::Z);
-        assert!(tri.intersect(&r, 0.0, Real::INFINITY).is_some());
+        assert!(tri
+            .intersect(&Shear::new(&r), 0.0, Real::INFINITY)
+            .is_some());
         assert!(MtTriangle(tri).intersect(&r, 0.0, Real::INFINITY).is_none());
     }
 

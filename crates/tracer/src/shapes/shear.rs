@@ -1,0 +1,196 @@
+//! The per-ray part of the watertight ray–triangle test: the ray's shear
+//! frame, computed once per query ([`Primitive::ray_data`] of [`Triangle`]
+//! and [`Shape`]) and handed to every triangle test of that query.
+//!
+//! [`Primitive::ray_data`]: gridrt_grid::Primitive::ray_data
+//! [`Triangle`]: super::Triangle
+//! [`Shape`]: super::Shape
+
+use gridrt_bbox::math::{LaneMat, Lanes};
+use gridrt_bbox::{Ray, Real};
+
+/// The ray's frame for the watertight ray–triangle test of Woop, Benthin &
+/// Wald ("Watertight Ray/Triangle Intersection", JCGT 2013), in which the
+/// ray runs along +z: the axes are permuted so that the largest direction
+/// component becomes z, and x, y are sheared so that the direction has none:
+/// with `(x, y, z)` the permuted `p − origin`, a point `p` sits at
+/// `(x − sx·z, y − sy·z, sz·z)`, and the ray's points at `(0, 0, t)`.
+///
+/// It is what [`Triangle`](super::Triangle) computes once per ray (its
+/// [`Primitive::RayData`](gridrt_grid::Primitive::RayData), as Embree's
+/// `WoopPrecalculations1`): the frame, and the origin and shear factors
+/// splatted into four lanes for testing four triangles at a time
+/// ([`Shear::triangles_may_hit`]).
+///
+/// ```
+/// use gridrt_grid::{Ray, Vec3};
+/// use gridrt_tracer::Shear;
+/// let r = Ray::new(Vec3::ZERO, Vec3::new(1.0, -4.0, 2.0));
+/// let shear = Shear::new(&r);
+/// // y is the largest and negative: it becomes z, and x, y swap to keep the winding.
+/// assert_eq!(shear.axes, [0, 2, 1]);
+/// assert_eq!(shear.s, [-0.25, -0.5, -0.25]);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shear {
+    /// `[kx, ky, kz]`: `kz` is the axis of the largest `|dir|` component (the
+    /// later axis on ties), `kx`, `ky` the next two in cyclic order, swapped
+    /// when `dir[kz] < 0` so that the triangles' winding is kept.
+    pub axes: [usize; 3],
+    /// `[dir[kx]·sz, dir[ky]·sz, sz]` with `sz = 1 / dir[kz]`.
+    pub s: [Real; 3],
+    /// The origin's permuted coordinates `[o[kx], o[ky], o[kz]]`, each
+    /// splatted into four lanes.
+    pub(super) origin: [Lanes; 3],
+    /// `[sx, sy]`, each splatted into four lanes.
+    pub(super) s_lanes: [Lanes; 2],
+}
+
+impl Shear {
+    /// The frame of `ray`.
+    #[inline]
+    #[must_use]
+    pub fn new(ray: &Ray) -> Self {
+        let (dir, inv_dir) = (ray.dir, ray.inv_dir);
+        let a = dir.abs();
+        let kz = if a.x > a.y {
+            if a.x > a.z {
+                0
+            } else {
+                2
+            }
+        } else if a.y > a.z {
+            1
+        } else {
+            2
+        };
+        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        if dir[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let sz = inv_dir[kz];
+        let [sx, sy] = [dir[kx] * sz, dir[ky] * sz];
+        let o: &[Real; 3] = ray.origin.as_ref();
+        Self {
+            axes: [kx, ky, kz],
+            s: [sx, sy, sz],
+            origin: [o[kx], o[ky], o[kz]].map(Lanes::splat),
+            s_lanes: [sx, sy].map(Lanes::splat),
+        }
+    }
+
+    /// Of four triangles, the mask (bit `j` for triangle `j`) of those that
+    /// the watertight test's edge functions do not reject: `coord(k)` gives,
+    /// for world axis `k`, each triangle's lanes `(v0[k], v1[k], v2[k], _)`,
+    /// and a triangle is rejected when its three edge functions have both
+    /// signs and none is zero, as the scalar test rejects it first.
+    /// The operations are the scalar test's, in the same order, so each
+    /// lane's verdict is bit for bit the scalar one.
+    ///
+    /// ```
+    /// use gridrt_bbox::math::Lanes;
+    /// use gridrt_grid::{Ray, Real, Vec3};
+    /// use gridrt_tracer::Shear;
+    /// let r = Ray::new(Vec3::new(0.25, 0.25, 1.0), Vec3::new(0.0, 0.0, -1.0));
+    /// // The unit right triangle in z = 0, moved along x by `dx`: per axis,
+    /// // that coordinate of its three vertices.
+    /// let tri = |dx: Real| {
+    ///     [
+    ///         Lanes::new(dx, 1.0 + dx, dx, 0.0),
+    ///         Lanes::new(0.0, 0.0, 1.0, 0.0),
+    ///         Lanes::ZERO,
+    ///     ]
+    /// };
+    /// // Under the ray, beside it, under it again, beside it.
+    /// let four = [tri(0.0), tri(2.0), tri(-0.5), tri(-3.0)];
+    /// let mask = Shear::new(&r).triangles_may_hit(|k| four.map(|t| t[k]));
+    /// assert_eq!(mask, 0b0101);
+    /// ```
+    #[inline(always)]
+    #[must_use]
+    pub fn triangles_may_hit(&self, coord: impl Fn(usize) -> [Lanes; 4]) -> u32 {
+        let [kx, ky, kz] = self.axes;
+        let [ox, oy, oz] = self.origin;
+        let [sx, sy] = self.s_lanes;
+        // Coordinate `k` of vertex `i` of the four triangles: row `i`.
+        let rows = |k: usize| {
+            let [a, b, c, d] = coord(k);
+            let m = LaneMat::from_cols(a, b, c, d).transpose();
+            [m.x_axis, m.y_axis, m.z_axis]
+        };
+        let z = rows(kz).map(|c| c - oz);
+        let [x, y] = [(rows(kx), ox, sx), (rows(ky), oy, sy)]
+            .map(|(c, o, s)| [0, 1, 2].map(|i| (c[i] - o) - s * z[i]));
+        let e = [
+            x[2] * y[1] - y[2] * x[1],
+            x[0] * y[2] - y[0] * x[2],
+            x[1] * y[0] - y[1] * x[0],
+        ];
+        // The signs as lane masks, by direct calls that inline (called
+        // through an array of function pointers, they can stay calls).
+        let (mut neg, mut pos, mut zero) = (0, 0, 0);
+        for e in e {
+            neg |= e.cmplt(Lanes::ZERO).bitmask();
+            pos |= e.cmpgt(Lanes::ZERO).bitmask();
+            zero |= e.cmpeq(Lanes::ZERO).bitmask();
+        }
+        !(neg & pos & !zero) & 0xf
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gridrt_bbox::Vec3;
+
+    /// `p` in the shear frame, as the watertight triangle test computes it.
+    fn sheared(r: &Ray, p: Vec3) -> [Real; 3] {
+        let shear = Shear::new(r);
+        let [kx, ky, kz] = shear.axes;
+        let [sx, sy, sz] = shear.s;
+        let d = p - r.origin;
+        [d[kx] - sx * d[kz], d[ky] - sy * d[kz], sz * d[kz]]
+    }
+
+    #[test]
+    fn shear_puts_the_ray_on_the_z_axis_and_keeps_the_winding() {
+        let dirs = [
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::new(-3.0, 1.0, 2.0),
+            Vec3::new(0.5, -4.0, 0.25),
+            Vec3::new(0.0, -0.0, -2.0),
+            Vec3::new(-1.0, 0.0, 0.0),
+            // Ties go to the later axis.
+            Vec3::new(2.0, 2.0, -2.0),
+        ];
+        for d in dirs {
+            let r = Ray::new(Vec3::new(0.5, -1.5, 2.0), d);
+            let shear = Shear::new(&r);
+            let [kx, ky, kz] = shear.axes;
+            let mut k = shear.axes;
+            k.sort_unstable();
+            assert_eq!(k, [0, 1, 2], "{d}: not a permutation");
+            assert!(d.abs().max_element() == d[kz].abs(), "{d}: kz = {kz}");
+            // Points on the ray (exact multiples here) land on +z at t.
+            for t in [0.0, 0.5, 2.0, 8.0] {
+                assert_eq!(sheared(&r, r.at(t)), [0.0, 0.0, t], "{d} at {t}");
+            }
+            // A right-handed frame: the unit vectors of kx and ky, taken
+            // as a triangle with the origin, keep their orientation.
+            let (ex, ey) = (Vec3::AXES[kx], Vec3::AXES[ky]);
+            let ez = ex.cross(ey);
+            assert_eq!(ez.dot(d).signum(), 1.0, "{d}: winding flipped");
+        }
+    }
+
+    #[test]
+    fn lanes_hold_the_permuted_origin_and_the_shear_factors() {
+        let r = Ray::new(Vec3::new(0.5, -1.5, 2.0), Vec3::new(1.0, -4.0, 2.0));
+        let shear = Shear::new(&r);
+        let [kx, ky, kz] = shear.axes;
+        let o = r.origin;
+        assert_eq!(shear.origin, [o[kx], o[ky], o[kz]].map(Lanes::splat));
+        let [sx, sy, _] = shear.s;
+        assert_eq!(shear.s_lanes, [sx, sy].map(Lanes::splat));
+    }
+}
