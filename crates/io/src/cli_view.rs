@@ -80,6 +80,9 @@ impl ViewArgs {
     /// the view is degenerate (eye on
     /// the look-at point, up parallel to the view), the field of view is
     /// not in (0, 180) or the depth is over 64.
+    // The lens fields are `Real`: their conversion to f64 does nothing in
+    // the f64 build.
+    #[allow(clippy::useless_conversion)]
     pub fn apply(&self, loaded: &mut LoadedScene) -> Result<()> {
         if let Some(name) = &self.camera {
             let Some((_, cam)) = loaded.cameras.iter().find(|(n, _)| n == name) else {

@@ -13,6 +13,8 @@ const OFFSETS: [f64; 3] = [0.0, 1e3, 1e5];
 /// `offset` keeps its shape: its extent spans at least 2¹² ulps of the
 /// offset. Below that vertices merge, and the inside point may end up on
 /// or outside the surface.
+// `Real` is f64 in the f64 build, where the conversion does nothing.
+#[allow(clippy::useless_conversion)]
 fn resolved(scale: f64, offset: f64) -> bool {
     scale >= offset * f64::from(Real::EPSILON) * 4096.0
 }

@@ -10,6 +10,8 @@ use proptest::prelude::*;
 /// Whether the mesh keeps its shape at this placement: its smallest
 /// vertex distance from the centre (`r_min · scale`) spans 2¹² ulps of the
 /// offset. Below that the centre may round onto the surface.
+// `Real` is f64 in the f64 build, where the conversion does nothing.
+#[allow(clippy::useless_conversion)]
 fn resolved(scale: f64, offset: f64, r_min: f64) -> bool {
     scale * r_min >= offset * f64::from(Real::EPSILON) * 4096.0
 }

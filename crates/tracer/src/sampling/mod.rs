@@ -269,7 +269,7 @@ mod tests {
                 let xy = mean(kind, 16, pair, |x, y| crate::float::to_f64(x * y));
                 assert!((xy - 0.25).abs() < tol, "{kind} pair {pair}: {xy}");
                 let s = mean(kind, 16, pair, |x, _| {
-                    (std::f64::consts::PI * x as f64).sin()
+                    (std::f64::consts::PI * crate::float::to_f64(x)).sin()
                 });
                 assert!(
                     (s - 2.0 / std::f64::consts::PI).abs() < tol,
