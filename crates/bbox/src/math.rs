@@ -14,6 +14,20 @@ pub type Vec3 = glam::Vec3;
 #[cfg(feature = "f64")]
 pub type Vec3 = glam::DVec3;
 
+/// A 3-vector held in one SIMD register whose fourth lane is defined:
+/// `glam::Vec3A` by default, `glam::DVec3` with `f64`. Its lane-wise
+/// arithmetic and `dot` round exactly as [`Vec3`]'s. Kernels load operands
+/// into it when the compiler would otherwise widen [`Vec3`] arithmetic to four
+/// lanes and read the bytes after a value (an enum's unused bytes, say): a
+/// subnormal pattern there costs a microcode assist per operation although
+/// its lane is discarded.
+#[cfg(not(feature = "f64"))]
+pub type Vec3Lanes = glam::Vec3A;
+/// A 3-vector held in one SIMD register whose fourth lane is defined:
+/// `glam::Vec3A` by default, `glam::DVec3` with `f64`.
+#[cfg(feature = "f64")]
+pub type Vec3Lanes = glam::DVec3;
+
 /// Four lanes of [`Real`] (SIMD on x86-64): `glam::Vec4`, or `glam::DVec4`
 /// with `f64`. For testing four primitives at once.
 #[cfg(not(feature = "f64"))]

@@ -377,6 +377,9 @@ where
     /// placed it.
     #[inline]
     fn mesh_triangle(&self, h: &Hit) -> Option<MeshTriangle<'_>> {
+        if self.data.meshes.is_empty() {
+            return None;
+        }
         let prim = &self.accel.primitives()[h.slot as usize];
         let (m, instance) = match prim.instance() {
             Some(inst) => (

@@ -12,7 +12,7 @@ use crate::plan::{EffectPlan, IntegratorKind, RayCounts};
 use crate::pool::Pool;
 use crate::prepare::{prepare, Prepared, Prims};
 use crate::robustness::{with_triangle_test, RayOffset, TriangleTest};
-use crate::sampling::{FilterTable, SampleStream, SamplerKind};
+use crate::sampling::{FilterTable, PixelSamples, SampleStream, SamplerKind};
 use crate::scene::{Rgb, Scene};
 use crate::shapes::Surface;
 pub use crate::stats::RenderStats;
@@ -739,17 +739,19 @@ impl Job<'_> {
         // stream; pinhole cameras (the plan's `depth_of_field` off) keep
         // the batched loop and draw nothing.
         let lens = self.camera.has_lens();
+        let samples = PixelSamples::new(self.sampler, self.spp);
         for &y in &self.rows[tile.k0..tile.k1] {
             debug_assert!(y < self.height);
             let r = self.height - 1 - y;
             if JITTER || I::SAMPLED || lens {
                 for x in tile.x0..tile.x1 {
                     let index = u64::from(y) * u64::from(self.width) + u64::from(x);
+                    let px = samples.at(index);
                     let mut sum = Rgb::ZERO;
                     let mut weights = 0.0f32;
                     let mut hit = false;
                     for s in 0..self.spp {
-                        let mut stream = SampleStream::new(self.sampler, index, s, self.spp);
+                        let mut stream = px.stream(s);
                         let u = stream.next_2d();
                         // At 1 spp the sample goes through the pixel centre.
                         let (jx, jy, w) = if JITTER {

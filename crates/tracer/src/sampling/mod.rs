@@ -78,22 +78,68 @@ fn mix32(mut x: u32) -> u32 {
     x ^ (x >> 16)
 }
 
-/// The samples of one pixel sample: dimension pairs are drawn in order with
-/// [`SampleStream::next_2d`]. The pixel's hashes are computed once, when
-/// the stream is made.
+/// The samples of one pixel: its hashes and the strata of its sample count,
+/// computed once for all of its samples ([`PixelSamples::stream`]).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct SampleStream {
+pub(crate) struct PixelSamples {
     kind: SamplerKind,
     /// The first pair's pattern (the historical pixel pattern).
     first: u32,
     /// A hash of the pixel, the root of every other pair's seeds.
     base: u32,
-    /// Sample index in `0..n`.
-    index: u32,
     /// Samples per pixel.
     n: u32,
     /// The multi-jittered strata of `n` samples.
     strata: Strata,
+}
+
+impl PixelSamples {
+    /// `n` samples of `kind` for pixel 0; [`PixelSamples::at`] moves them to
+    /// another pixel without recomputing the strata.
+    #[inline]
+    pub(crate) fn new(kind: SamplerKind, n: u32) -> Self {
+        debug_assert!(n > 0);
+        Self {
+            kind,
+            first: 0,
+            base: 0,
+            n,
+            strata: Strata::new(n),
+        }
+        .at(0)
+    }
+
+    /// The same samples for the pixel with image index `pixel`.
+    #[inline]
+    #[must_use]
+    pub(crate) fn at(self, pixel: u64) -> Self {
+        Self {
+            first: pixel_pattern(pixel, 0),
+            base: pixel_pattern(pixel, 0x5eed),
+            ..self
+        }
+    }
+
+    /// Sample `index` of the pixel's `n`.
+    #[inline]
+    pub(crate) fn stream(&self, index: u32) -> SampleStream {
+        debug_assert!(index < self.n);
+        SampleStream {
+            pixel: *self,
+            index,
+            pair: 0,
+        }
+    }
+}
+
+/// The samples of one pixel sample: dimension pairs are drawn in order with
+/// [`SampleStream::next_2d`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SampleStream {
+    /// The pixel's hashes and strata.
+    pixel: PixelSamples,
+    /// Sample index in `0..n`.
+    index: u32,
     /// The next dimension pair.
     pair: u32,
 }
@@ -102,16 +148,7 @@ impl SampleStream {
     /// Sample `index` of `n` of the pixel with image index `pixel`.
     #[inline]
     pub(crate) fn new(kind: SamplerKind, pixel: u64, index: u32, n: u32) -> Self {
-        debug_assert!(index < n);
-        Self {
-            kind,
-            first: pixel_pattern(pixel, 0),
-            base: pixel_pattern(pixel, 0x5eed),
-            index,
-            n,
-            strata: Strata::new(n),
-            pair: 0,
-        }
+        PixelSamples::new(kind, n).at(pixel).stream(index)
     }
 
     /// The next 2D sample in `[0, 1)²`.
@@ -125,7 +162,7 @@ impl SampleStream {
     /// A seed for pair `pair` and purpose `c`.
     #[inline]
     fn seed(&self, pair: u32, c: u32) -> u32 {
-        mix32(self.base ^ pair.wrapping_mul(0x9e37_79b9) ^ c.wrapping_mul(0x85eb_ca6b))
+        mix32(self.pixel.base ^ pair.wrapping_mul(0x9e37_79b9) ^ c.wrapping_mul(0x85eb_ca6b))
     }
 
     /// Dimension pair `pair` of this sample.
@@ -135,9 +172,9 @@ impl SampleStream {
     /// 0))`, so images made with it do not change.
     #[inline]
     fn get(&self, pair: u32) -> (Real, Real) {
-        let (s, n, kind) = (self.index, self.n, self.kind);
+        let (s, n, kind) = (self.index, self.pixel.n, self.pixel.kind);
         let seed = if pair == 0 {
-            self.first
+            self.pixel.first
         } else {
             self.seed(pair, 0)
         };
@@ -163,7 +200,7 @@ impl SampleStream {
                 let y = (((k / m) as Real + jy) / rows as Real).min(ONE_MINUS_ULP);
                 (x, y)
             }
-            SamplerKind::MultiJittered => self.strata.cmj(s, seed),
+            SamplerKind::MultiJittered => self.pixel.strata.cmj(s, seed),
             SamplerKind::Hammersley => {
                 let k = permute(s, n, seed);
                 // One shift per pixel and pair (a Cranley-Patterson rotation).

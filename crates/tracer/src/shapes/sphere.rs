@@ -1,5 +1,5 @@
 use super::{unit_or, Surface, SurfacePoint};
-use gridrt_bbox::math::{LaneMat, Lanes};
+use gridrt_bbox::math::{LaneMat, Lanes, Vec3Lanes};
 use gridrt_bbox::{gamma, Aabb, Ray, Real, Vec3};
 use gridrt_grid::{closest_hits_prefiltered, PrimHit, Primitive};
 
@@ -41,8 +41,9 @@ impl Sphere {
     #[inline]
     #[must_use]
     pub fn roots(&self, ray: &Ray) -> Option<(Real, Real)> {
-        let d = ray.dir;
-        let f = ray.origin - self.center;
+        // In defined lanes: see `Vec3Lanes`.
+        let d = Vec3Lanes::from(ray.dir);
+        let f = Vec3Lanes::from(ray.origin) - Vec3Lanes::from(self.center);
         let r = self.radius;
         let a = d.dot(d);
         // Half of the quadratic's b.
