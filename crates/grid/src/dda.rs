@@ -194,23 +194,18 @@ impl<'g> Dda<'g> {
             return None;
         }
         let (t0, t1) = g.entry.hit_with(g.slab, ray, t_min, t_max)?;
-        let mut d = Dda {
-            next: [g.walk[0].as_ptr(), g.walk[1].as_ptr(), g.walk[2].as_ptr()],
-            base: [g.walk[0].as_ptr(), g.walk[1].as_ptr(), g.walk[2].as_ptr()],
-            dir: [1; 3],
-            org: ray.origin.to_array(),
-            inv: ray.inv_dir.to_array(),
-            idx: [0; 3],
-            neg: [false; 3],
-            t_next: [INF; 3],
-            t_enter: t0,
-            // Keep the end finite so that a `+∞` crossing never compares below it.
-            t_end: if t1 < Real::MAX { t1 } else { Real::MAX },
-            _geom: std::marker::PhantomData,
-        };
+        // Built in locals and assembled at the end, so that the walk's
+        // state is written once into the caller's slot, not copied there.
+        let base = [g.walk[0].as_ptr(), g.walk[1].as_ptr(), g.walk[2].as_ptr()];
+        let (org, inv) = (ray.origin.to_array(), ray.inv_dir.to_array());
+        let mut next = base;
+        let mut dir = [1; 3];
+        let mut idx = [0; 3];
+        let mut neg = [false; 3];
+        let mut t_next = [INF; 3];
         for a in 0..3 {
-            let o = d.org[a];
-            let inv = d.inv[a];
+            let o = org[a];
+            let inv = inv[a];
             let moving = inv.is_finite() && inv != 0.0;
             // A non-moving axis keeps the origin's coordinate (never 0·∞).
             let p = if moving { o + ray.dir[a] * t0 } else { o };
@@ -233,16 +228,29 @@ impl<'g> Dda<'g> {
                         i -= 1;
                     }
                 }
-                d.neg[a] = down;
-                d.dir[a] = if down { -1 } else { 1 };
+                neg[a] = down;
+                dir[a] = if down { -1 } else { 1 };
                 let k = i as usize + usize::from(!down);
                 // `k <= n`: the walk planes have `n + 1` entries.
-                d.next[a] = g.walk[a][k..].as_ptr();
-                d.t_next[a] = (g.walk[a][k] - o) * inv;
+                next[a] = g.walk[a][k..].as_ptr();
+                t_next[a] = (g.walk[a][k] - o) * inv;
             }
-            d.idx[a] = i;
+            idx[a] = i;
         }
-        Some(d)
+        Some(Dda {
+            next,
+            base,
+            dir,
+            org,
+            inv,
+            idx,
+            neg,
+            t_next,
+            t_enter: t0,
+            // Keep the end finite so that a `+∞` crossing never compares below it.
+            t_end: if t1 < Real::MAX { t1 } else { Real::MAX },
+            _geom: std::marker::PhantomData,
+        })
     }
 
     /// The axis whose plane the ray crosses next, and the crossing.
