@@ -11,6 +11,7 @@ use crate::sampling::SampleStream;
 use crate::scene::{Material, Rgb};
 use crate::shapes::{Instance, Plane, Surface, SurfacePoint};
 use crate::texture::shade::{self, HitUv, TextureData};
+use crate::texture::MaterialMaps;
 use gridrt_bbox::{Ray, Real, Vec3};
 use gridrt_grid::{Accelerator, Hit};
 
@@ -517,7 +518,7 @@ where
                 {
                     ns = if n.dot(sp.n) < 0.0 { -n } else { n };
                 }
-                let sh = Shading {
+                let mut sh = Shading {
                     t: h.t,
                     sp,
                     material: self.data.prim_material.get(i),
@@ -529,11 +530,12 @@ where
                     emission: Rgb::ZERO,
                     metal_rough: None,
                 };
-                self.textured(ray, sh, || tri.and_then(|t| Self::uv_at(&t, h.u, h.v)))
+                self.textured(ray, &mut sh, || tri.and_then(|t| Self::uv_at(&t, h.u, h.v)));
+                sh
             }
             Found::Plane { index, t } => {
                 let sp = self.data.planes[index as usize].surface(ray, t);
-                let sh = Shading {
+                let mut sh = Shading {
                     t,
                     sp,
                     material: self.data.plane_material[index as usize],
@@ -542,7 +544,8 @@ where
                     emission: Rgb::ZERO,
                     metal_rough: None,
                 };
-                self.textured(ray, sh, || None)
+                self.textured(ray, &mut sh, || None);
+                sh
             }
             Found::Area { index, t } => {
                 let l = &self.data.area_lights[index as usize];
@@ -560,13 +563,18 @@ where
         }
     }
 
-    /// `sh` with its material's textures applied (unchanged without any).
+    /// Applies the textures of `sh`'s material to it (none: unchanged).
     #[inline]
-    fn textured(&self, ray: &Ray, mut sh: Shading, uv: impl FnOnce() -> Option<HitUv>) -> Shading {
-        let Some(maps) = self.data.tex.of(sh.material) else {
-            return sh;
-        };
-        let uv = uv();
+    fn textured(&self, ray: &Ray, sh: &mut Shading, uv: impl FnOnce() -> Option<HitUv>) {
+        if let Some(maps) = self.data.tex.of(sh.material) {
+            self.apply_textures(ray, sh, maps, uv());
+        }
+    }
+
+    /// [`Tracer::textured`] for a material with textures: out of line, so
+    /// that untextured scenes' shading stays small.
+    #[inline(never)]
+    fn apply_textures(&self, ray: &Ray, sh: &mut Shading, maps: &MaterialMaps, uv: Option<HitUv>) {
         let q = self.data.tex.query(ray, sh.t, sh.sp.p, sh.sp.n, uv);
         let base = sh.albedo.unwrap_or_else(|| {
             self.data
@@ -589,7 +597,6 @@ where
         }
         sh.emission = t.emission;
         sh.ns = t.ns;
-        sh
     }
 }
 
