@@ -199,6 +199,68 @@ impl SceneData {
             Found::Plane { .. } => None,
         }
     }
+
+    /// One light sample for next-event estimation from `p`: the
+    /// environment with probability `env_pick`, else an area light chosen
+    /// by power. `cosine_about` asks a constant environment for directions
+    /// cosine-weighted about that normal (an image is always sampled by
+    /// its own importance). The second dimension pair is drawn from
+    /// `stream` only when there is a light to sample.
+    #[inline]
+    pub(crate) fn sample_direct(
+        &self,
+        p: Vec3,
+        u1: Real,
+        stream: &mut SampleStream,
+        cosine_about: Option<Vec3>,
+    ) -> Option<DirectSample> {
+        if self.env_pick > 0.0 && u1 < self.env_pick {
+            let u2 = stream.next_2d();
+            let env = self.env.as_ref()?;
+            let es = match cosine_about {
+                Some(n) => env.sample_at(n, u2),
+                None => env.sample(u2),
+            }?;
+            return Some(DirectSample {
+                wi: es.wi,
+                radiance: es.radiance,
+                pdf: self.env_pick * es.pdf,
+                point: None,
+            });
+        }
+        if self.emitters.is_empty() {
+            return None;
+        }
+        let u2 = stream.next_2d();
+        // The rest of u1 chooses among the area lights.
+        let (u1, pick) = if self.env_pick > 0.0 {
+            let u = (u1 - self.env_pick) / (1.0 - self.env_pick);
+            (u.clamp(0.0, 1.0 - Real::EPSILON), 1.0 - self.env_pick)
+        } else {
+            (u1, 1.0)
+        };
+        let ls = self.emitters.sample(p, u1, u2)?;
+        Some(DirectSample {
+            wi: ls.wi,
+            radiance: ls.radiance,
+            pdf: ls.pdf * pick,
+            point: Some(ls.point),
+        })
+    }
+}
+
+/// A light sample of [`SceneData::sample_direct`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct DirectSample {
+    /// Unit direction towards the light.
+    pub wi: Vec3,
+    /// Radiance arriving from it, before occlusion.
+    pub radiance: Rgb,
+    /// Density per unit solid angle, the choice of the light included.
+    pub pdf: Real,
+    /// The point on an area light; `None` for the environment, whose
+    /// shadow ray is unbounded.
+    pub point: Option<Vec3>,
 }
 
 /// What a ray found: a grid primitive or a plane.
@@ -458,6 +520,25 @@ where
             Some(inst) => inst.normal_to_world(n),
             None => n,
         })
+    }
+
+    /// Whether the light of `ls` reaches the surface point `sp` (geometric
+    /// normal `ng`): one shadow ray, counted as a light sample.
+    #[inline]
+    pub(crate) fn sample_visible(
+        &self,
+        sp: &SurfacePoint,
+        ng: Vec3,
+        ls: &DirectSample,
+        ts: &mut ThreadState<A::Scratch>,
+    ) -> bool {
+        let o = self.data.ray_offset.origin(sp.p, sp.p_err, ng, ls.wi);
+        ts.counts.light_sample += 1;
+        let (shadow, t_max) = match ls.point {
+            Some(q) => (Ray::new(o, q - o), LIGHT_T_MAX),
+            None => (Ray::new(o, ls.wi), Real::INFINITY),
+        };
+        !self.occluded(&shadow, t_max, &mut ts.scratch)
     }
 
     /// Whether anything lies on the ray within `[0, t_max]`.

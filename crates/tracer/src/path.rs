@@ -16,7 +16,7 @@ use crate::bsdf::Micro;
 use crate::emitters::Emitters;
 use crate::float::to_f32;
 use crate::integrator::{face_forward, Integrator, Li, Shading, ThreadState, Tracer};
-use crate::integrator::{point_shadow_t_max, DirectLight, LIGHT_T_MAX};
+use crate::integrator::{point_shadow_t_max, DirectLight};
 use crate::optics::{fresnel_dielectric, reflect, refract};
 use crate::sampling::maps::{cosine_hemisphere, cosine_power_lobe, cosine_power_lobe_pdf, Frame};
 use crate::sampling::SampleStream;
@@ -204,46 +204,14 @@ impl PathTracer {
         let data = tr.data;
         let p = sh.sp.p;
         let mut l = Rgb::ZERO;
-        if data.env_pick > 0.0 && u1 < data.env_pick {
-            // The environment, sampled by its image; the shadow ray is
-            // unbounded.
-            let u2 = stream.next_2d();
-            if let Some(es) = data.env.as_ref().and_then(|e| e.sample(u2)) {
-                if bsdf.transmits() || ng.dot(es.wi) > 0.0 {
-                    let (f, pdf_bsdf) = bsdf.eval(wo, es.wi, ns, ng);
-                    if f != Rgb::ZERO {
-                        let o = tr.data.ray_offset.origin(p, sh.sp.p_err, ng, es.wi);
-                        ts.counts.light_sample += 1;
-                        if !tr.occluded(&Ray::new(o, es.wi), Real::INFINITY, &mut ts.scratch) {
-                            let pdf = data.env_pick * es.pdf;
-                            let w = power_heuristic(pdf, pdf_bsdf);
-                            l += f * es.radiance * to_f32(w / pdf);
-                        }
-                    }
-                }
-            }
-        } else if !data.emitters.is_empty() {
-            let u2 = stream.next_2d();
-            // The rest of u1 chooses among the area lights.
-            let (u1, scale) = if data.env_pick > 0.0 {
-                let u = (u1 - data.env_pick) / (1.0 - data.env_pick);
-                (u.clamp(0.0, 1.0 - Real::EPSILON), 1.0 - data.env_pick)
-            } else {
-                (u1, 1.0)
-            };
-            if let Some(mut ls) = data.emitters.sample(p, u1, u2) {
-                ls.pdf *= scale;
-                if bsdf.transmits() || ng.dot(ls.wi) > 0.0 {
-                    let (f, pdf_bsdf) = bsdf.eval(wo, ls.wi, ns, ng);
-                    if f != Rgb::ZERO {
-                        let o = tr.data.ray_offset.origin(p, sh.sp.p_err, ng, ls.wi);
-                        ts.counts.light_sample += 1;
-                        let shadow = Ray::new(o, ls.point - o);
-                        if !tr.occluded(&shadow, LIGHT_T_MAX, &mut ts.scratch) {
-                            let w = power_heuristic(ls.pdf, pdf_bsdf);
-                            l += f * ls.radiance * to_f32(w / ls.pdf);
-                        }
-                    }
+        // An image environment is sampled by its importance, so that the
+        // density of a BSDF-sampled direction can be evaluated for MIS.
+        if let Some(ls) = data.sample_direct(p, u1, stream, None) {
+            if bsdf.transmits() || ng.dot(ls.wi) > 0.0 {
+                let (f, pdf_bsdf) = bsdf.eval(wo, ls.wi, ns, ng);
+                if f != Rgb::ZERO && tr.sample_visible(&sh.sp, ng, &ls, ts) {
+                    let w = power_heuristic(ls.pdf, pdf_bsdf);
+                    l += f * ls.radiance * to_f32(w / ls.pdf);
                 }
             }
         }

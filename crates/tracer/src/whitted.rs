@@ -511,34 +511,11 @@ impl<
             // `env_pick` and then by power (Suffern ch. 18 samples each
             // light; choosing one keeps the cost per shading point constant
             // with many emitting triangles).
-            let (u1, u2) = (stream.next_2d().0, stream.next_2d());
-            let data = tr.data;
-            if u1 < data.env_pick {
-                if let Some(es) = data.env.as_ref().and_then(|e| e.sample_at(ns, u2)) {
-                    let cos = ns.dot(es.wi);
-                    if cos > 0.0 && ng.dot(es.wi) > 0.0 {
-                        let o = data.ray_offset.origin(sp.p, sp.p_err, ng, es.wi);
-                        ts.counts.light_sample += 1;
-                        if !tr.occluded(&Ray::new(o, es.wi), Real::INFINITY, &mut ts.scratch) {
-                            let pdf = data.env_pick * es.pdf;
-                            l += brdf(es.wi) * es.radiance * to_f32(cos / pdf);
-                        }
-                    }
-                }
-            } else {
-                // The rest of u1 chooses among the area lights.
-                let pick = 1.0 - data.env_pick;
-                let u1 = ((u1 - data.env_pick) / pick).clamp(0.0, 1.0 - Real::EPSILON);
-                if let Some(ls) = data.emitters.sample(sp.p, u1, u2) {
-                    let cos = ns.dot(ls.wi);
-                    if cos > 0.0 && ng.dot(ls.wi) > 0.0 {
-                        let o = data.ray_offset.origin(sp.p, sp.p_err, ng, ls.wi);
-                        ts.counts.light_sample += 1;
-                        let shadow = Ray::new(o, ls.point - o);
-                        if !tr.occluded(&shadow, LIGHT_T_MAX, &mut ts.scratch) {
-                            l += brdf(ls.wi) * ls.radiance * to_f32(cos / (ls.pdf * pick));
-                        }
-                    }
+            let u1 = stream.next_2d().0;
+            if let Some(ls) = tr.data.sample_direct(sp.p, u1, stream, Some(ns)) {
+                let cos = ns.dot(ls.wi);
+                if cos > 0.0 && ng.dot(ls.wi) > 0.0 && tr.sample_visible(sp, ng, &ls, ts) {
+                    l += brdf(ls.wi) * ls.radiance * to_f32(cos / ls.pdf);
                 }
             }
         }
