@@ -49,7 +49,7 @@ pub fn build_binaries(dir: &Path) -> Res<[PathBuf; 2]> {
 }
 
 fn v3(v: gridrt_bbox::Vec3, shift: f64) -> String {
-    let c = |x: gridrt_bbox::Real| f64::from(x) + shift;
+    let c = |x: gridrt_bbox::Real| gridrt_bbox::math::to_f64(x) + shift;
     format!("({}, {}, {})", c(v.x), c(v.y), c(v.z))
 }
 
@@ -181,7 +181,7 @@ pub fn write_scene(scene: &Scene, shift: f64, dir: &Path, stem: &str) -> Res<Pat
                 let file = format!("{stem}-{i}.obj");
                 let mut obj = String::new();
                 for p in &mesh.positions {
-                    let c = |x: gridrt_bbox::Real| f64::from(x) + shift;
+                    let c = |x: gridrt_bbox::Real| gridrt_bbox::math::to_f64(x) + shift;
                     let _ = writeln!(obj, "v {} {} {}", c(p.x), c(p.y), c(p.z));
                 }
                 for f in &mesh.triangles {

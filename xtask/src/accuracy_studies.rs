@@ -196,7 +196,7 @@ pub fn triangle_test(o: &Opts) -> Res<String> {
             .chain((1..=4).map(|seed| hard_meshes::random_star(seed, 150, 0.3)));
         for mesh in meshes {
             for &offset in &o.offsets {
-                if scale < offset * f64::from(Real::EPSILON) * 4096.0 {
+                if scale < offset * gridrt_bbox::math::to_f64(Real::EPSILON) * 4096.0 {
                     continue;
                 }
                 let tris = mesh.triangles(scale, offset);

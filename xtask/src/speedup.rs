@@ -155,7 +155,7 @@ pub fn run(args: &Args) -> crate::Outcome {
         runs,
         configs: configs
             .iter()
-            .map(|(l, c)| (l.clone(), f64::from(c.m)))
+            .map(|(l, c)| (l.clone(), gridrt_bbox::math::to_f64(c.m)))
             .collect(),
         resolution: RESOLUTION,
         rows: Vec::new(),

@@ -14,6 +14,15 @@ pub type Vec3 = glam::Vec3;
 #[cfg(feature = "f64")]
 pub type Vec3 = glam::DVec3;
 
+/// A [`Real`] as `f64`: exact in both builds (a no-op with `f64`), for
+/// reports and error measurements written once for either build.
+#[inline]
+#[must_use]
+#[allow(clippy::unnecessary_cast)] // a no-op with the `f64` feature
+pub fn to_f64(x: Real) -> f64 {
+    x as f64
+}
+
 /// A 3-vector held in one SIMD register whose fourth lane is defined:
 /// `glam::Vec3A` by default, `glam::DVec3` with `f64`. Its lane-wise
 /// arithmetic and `dot` round exactly as [`Vec3`]'s. Kernels load operands

@@ -60,8 +60,8 @@ fn ron_scene_numbers_keep_the_builds_precision() {
     assert_eq!(radius, p("0.7"));
     #[cfg(feature = "f64")]
     {
-        // What an f32 detour would lose.
-        assert_ne!(center.x, f64::from(0.100000000001f32));
+        // What an f32 detour would lose ("0.100000000001" read as f32).
+        assert_ne!(center.x, f64::from(0.1f32));
         assert_ne!(cam.eye.x, f64::from(1000000.1f32));
         assert_eq!(center.y, -7.1e-300);
     }

@@ -90,7 +90,7 @@ fn different_normals_make_different_shared_meshes() {
 #[test]
 fn a_shared_file_under_a_singular_or_huge_transform_is_refused() {
     // A stretch and a shift each within range whose sum is not.
-    let max = f64::from(gridrt_bbox::Real::MAX);
+    let max = gridrt_bbox::math::to_f64(gridrt_bbox::Real::MAX);
     let overflow = format!(
         "Scale(({:e}, 1, 1)), Translate(({:e}, 0, 0))",
         0.1 * max,

@@ -17,13 +17,7 @@ pub(crate) fn to_f32(x: Real) -> f32 {
     x as f32
 }
 
-/// A [`Real`] as `f64` (for error reports).
-#[inline]
-#[must_use]
-#[allow(clippy::unnecessary_cast)] // a no-op with the `f64` feature
-pub(crate) fn to_f64(x: Real) -> f64 {
-    x as f64
-}
+pub(crate) use gridrt_bbox::math::to_f64;
 
 /// The next representable value above `x` (`+∞` stays, NaN stays NaN).
 ///
