@@ -1,6 +1,6 @@
 //! Grid construction in linear time. The common part (the grid box, the
 //! resolution, the caps) is here; the dense table is built by counting and
-//! filling ([`crate::compact`]); the hashed table by sorting pairs: map
+//! filling ([`crate::dense_build`]); the hashed table by sorting pairs: map
 //! every primitive to the cells its (padded) box overlaps, emit one
 //! `(Morton code, primitive)` pair per reference, radix-sort the pairs by
 //! code, and read the occupied cells off the sorted runs (Kalojanov &
@@ -11,26 +11,17 @@
 //! `GridConfig::parallel_build` the chunks run in parallel, otherwise the
 //! same code runs sequentially.
 
+use crate::cells::{Cells, CellsOut};
 use crate::geom::{self, Geom, HARD_MAX_CELLS};
+use crate::geom::{gridded, is_gridded};
+use crate::hash_table::CellTable;
 use crate::morton;
 use crate::par::{chunk_bounds, chunk_count, map_indices, SharedMut};
 use crate::radix;
-use crate::table::CellTable;
 use crate::{CellStorage, GridConfig, Primitive};
 use gridrt_bbox::math::Lanes;
 use gridrt_bbox::Aabb;
 use std::sync::atomic::{AtomicU64, Ordering};
-
-/// How a built grid finds a cell's references.
-#[derive(Clone, Debug)]
-pub(crate) enum Cells {
-    /// No cells (no primitive with a finite box).
-    Empty,
-    /// `offsets[c]..offsets[c + 1]` for the row-major cell index `c`.
-    Dense { offsets: Box<[u32]> },
-    /// Morton code → run, only for occupied cells.
-    Hashed { table: CellTable },
-}
 
 /// Everything the build produces.
 #[derive(Debug)]
@@ -48,22 +39,6 @@ pub(crate) struct Built {
     /// slots, numbered in the order the primitives first appear in the
     /// references (cell order).
     pub ids: Box<[u32]>,
-}
-
-/// True when a primitive box can be placed in the grid: finite and not empty.
-#[inline]
-pub(crate) fn is_gridded(b: &Aabb) -> bool {
-    gridded(b).is_some()
-}
-
-/// The corners of a primitive box as [`Lanes`], if [`is_gridded`].
-#[inline(always)]
-fn gridded(b: &Aabb) -> Option<(Lanes, Lanes)> {
-    let (min, max) = (b.min.extend(0.0), b.max.extend(0.0));
-    let inf = Lanes::INFINITY;
-    (min.abs().cmplt(inf) & max.abs().cmplt(inf) & min.cmple(max))
-        .all()
-        .then_some((min, max))
 }
 
 /// Builds the cell structure for `prims`; the references hold slots (see
@@ -191,8 +166,6 @@ fn first_seen(refs: &mut [u32], prims: usize) -> Box<[u32]> {
     ids.into_boxed_slice()
 }
 
-pub(crate) type CellsOut = (Cells, Box<[u32]>, [Box<[u64]>; 3], u64, u32);
-
 /// A `(key, primitive)` pair as the sort sees it.
 trait Pair: Copy + Send + Sync {
     fn new(key: u64, prim: u32) -> Self;
@@ -249,7 +222,7 @@ fn build_cells<P: Primitive>(
     all_gridded: bool,
 ) -> Option<(CellsOut, Box<[u32]>)> {
     if config.storage == CellStorage::Dense {
-        return crate::compact::build_dense(prims, g, config, ref_limit, all_gridded);
+        return crate::dense_build::build_dense(prims, g, config, ref_limit, all_gridded);
     }
     let spread: [Box<[u64]>; 3] = std::array::from_fn(|a| {
         (0..g.dims[a])
@@ -270,7 +243,7 @@ fn build_cells<P: Primitive>(
 }
 
 /// The hashed table's build: `(Morton code, primitive)` pairs, sorted.
-/// `all_gridded` as for [`crate::compact::build_dense`].
+/// `all_gridded` as for [`crate::dense_build::build_dense`].
 fn build_pairs<P: Primitive, T: Pair>(
     prims: &[P],
     g: &Geom,

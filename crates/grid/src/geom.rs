@@ -3,6 +3,7 @@
 //! where a cell begins and ends.
 
 use crate::morton;
+use gridrt_bbox::math::Lanes;
 use gridrt_bbox::{Aabb, Real, SlabTest, Vec3};
 
 /// The insertion pad, in units of `Real::EPSILON` times the largest extent
@@ -395,6 +396,22 @@ pub(crate) fn cap_cells(mut dims: [u64; 3], max_cells: u64) -> [u32; 3] {
         }
     }
     dims.map(|d| d.clamp(1, u64::from(morton::MAX_AXIS_CELLS)) as u32)
+}
+
+/// True when a primitive box can be placed in the grid: finite and not empty.
+#[inline]
+pub(crate) fn is_gridded(b: &Aabb) -> bool {
+    gridded(b).is_some()
+}
+
+/// The corners of a primitive box as [`Lanes`], if [`is_gridded`].
+#[inline(always)]
+pub(crate) fn gridded(b: &Aabb) -> Option<(Lanes, Lanes)> {
+    let (min, max) = (b.min.extend(0.0), b.max.extend(0.0));
+    let inf = Lanes::INFINITY;
+    (min.abs().cmplt(inf) & max.abs().cmplt(inf) & min.cmple(max))
+        .all()
+        .then_some((min, max))
 }
 
 #[cfg(test)]

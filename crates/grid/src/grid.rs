@@ -1,6 +1,7 @@
 //! The regular grid: construction, queries, the cell walk and self-checks.
 
-use crate::build::{self, Cells};
+use crate::build;
+use crate::cells::{dense_occupancy, Cells};
 use crate::counters::{Counters, NoCounters};
 use crate::dda::{BlockMap, CellFn, CellIter, CellLookup, CellVisit, Dda};
 use crate::geom::{self, Geom};
@@ -110,21 +111,6 @@ fn bit(bits: &[u64], key: u64) -> bool {
     debug_assert!(w < bits.len());
     // SAFETY: the bitmap has a bit for every key the walk can produce.
     unsafe { bits.get_unchecked(w) >> (key & 63) & 1 != 0 }
-}
-
-/// One bit per cell of a dense table (`offsets[c]..offsets[c + 1]` are
-/// cell `c`'s references): set when the cell holds references.
-pub(crate) fn dense_occupancy(offsets: &[u32]) -> Box<[u64]> {
-    let cells = offsets.len() - 1;
-    // A word at a time, 64 comparisons of neighbouring offsets each: a
-    // fixed-length loop the compiler turns into vector compares.
-    let word = |w: usize| {
-        let o = &offsets[w * 64..(w * 64 + 65).min(offsets.len())];
-        o.windows(2)
-            .enumerate()
-            .fold(0u64, |bits, (b, p)| bits | u64::from(p[0] != p[1]) << b)
-    };
-    (0..cells.div_ceil(64)).map(word).collect()
 }
 
 /// A closure as a [`CellFn`] (for the public visitor).

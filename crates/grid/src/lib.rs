@@ -101,20 +101,21 @@
 
 mod accel;
 mod build;
-mod compact;
+mod cells;
 mod config;
 mod counters;
 mod dda;
+mod dense_build;
 mod exhaustive;
 mod geom;
 mod grid;
+mod hash_table;
 pub mod mem;
 mod morton;
 mod nested;
 mod order;
 mod par;
 mod radix;
-mod table;
 
 pub use accel::{
     any_hits_prefiltered, closest_hits_prefiltered, Accelerator, Hit, PrimHit, Primitive,

@@ -40,8 +40,8 @@
 //! under the outer walk's rule. So it finds the nearest hit inside the
 //! cell, ties included.
 
+use crate::cells::dense_occupancy;
 use crate::geom::{self, Geom};
-use crate::grid::dense_occupancy;
 use crate::par::map_indices;
 use crate::Primitive;
 use gridrt_bbox::{Aabb, Real};

@@ -32,7 +32,7 @@ pub fn spatial_order<P: Primitive>(prims: &[P]) -> Vec<u32> {
     let boxes: Vec<Aabb> = prims.iter().map(Primitive::bounds).collect();
     let scene = boxes
         .iter()
-        .filter(|b| crate::build::is_gridded(b))
+        .filter(|b| crate::geom::is_gridded(b))
         .fold(Aabb::EMPTY, |a, b| a.union(*b));
     let ext = scene.extent();
     let scale = ext.max_element();
@@ -40,7 +40,7 @@ pub fn spatial_order<P: Primitive>(prims: &[P]) -> Vec<u32> {
         .iter()
         .enumerate()
         .map(|(i, b)| {
-            if !crate::build::is_gridded(b) {
+            if !crate::geom::is_gridded(b) {
                 return (u64::MAX, i as u32);
             }
             let q = if scale > 0.0 {

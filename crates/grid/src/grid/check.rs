@@ -1,7 +1,6 @@
 //! The grid's self-checks, for tests.
 
 use super::{Cells, Grid};
-use crate::build;
 use crate::dda::BlockMap;
 use crate::{morton, Primitive};
 
@@ -155,7 +154,7 @@ impl<P: Primitive> Grid<P> {
         for (slot, prim) in self.prims.iter().enumerate() {
             let p = self.ids[slot] as usize;
             let b = prim.bounds();
-            if !build::is_gridded(&b) {
+            if !crate::geom::is_gridded(&b) {
                 unbounded.push(slot as u32);
                 continue;
             }

@@ -3,9 +3,9 @@
 
 use super::bit;
 use crate::dda::CellLookup;
+use crate::hash_table::CellTable;
 use crate::morton;
 use crate::nested::Sub;
-use crate::table::CellTable;
 
 pub(super) struct DenseLookup<'a> {
     occ: &'a [u64],

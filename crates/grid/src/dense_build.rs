@@ -23,7 +23,8 @@
 //! filling writes the range's cells only, where the branches cost less.
 //! The passes over the records (and over the primitives) prefetch ahead.
 
-use crate::build::{is_gridded, CellsOut};
+use crate::cells::CellsOut;
+use crate::geom::is_gridded;
 use crate::geom::Geom;
 use crate::par::{chunk_bounds, chunk_count, map_indices, SharedMut};
 use crate::radix;
@@ -279,7 +280,7 @@ pub(crate) fn build_dense<P: Primitive>(
         crate::par::map_range(ranges.len(), parallel, |i| ranges[i] as u32).into_boxed_slice();
     Some((
         (
-            crate::build::Cells::Dense {
+            crate::cells::Cells::Dense {
                 offsets: offsets.into_boxed_slice(),
             },
             refs.into_boxed_slice(),
