@@ -118,7 +118,7 @@ impl Primitive for Shape {
     }
 
     /// Four at a time where all four are watertight triangles (see
-    /// [`Shape::may_hit`]).
+    /// [`Shape::may_hit`]); a cell of fewer than four one at a time.
     #[inline]
     fn closest_hits(
         prims: &[Self],
@@ -129,12 +129,23 @@ impl Primitive for Shape {
         t_max: Real,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
+        if refs.len() < 4 {
+            // Too few for the four-lane filter to pay for its set-up.
+            let mut t_max = t_max;
+            for &r in refs {
+                if let Some(h) = prims[r as usize].closest_hit(ray, shear, t_min, t_max) {
+                    t_max = keep(r, h);
+                }
+            }
+            return;
+        }
         closest_hits_prefiltered(prims, refs, ray, shear, t_min, t_max, keep, |four| {
             Shape::may_hit(shear, four)
         });
     }
 
-    /// Four at a time where all four are watertight triangles.
+    /// Four at a time where all four are watertight triangles; a cell of
+    /// fewer than four one at a time.
     #[inline]
     fn any_hits(
         prims: &[Self],
@@ -144,6 +155,11 @@ impl Primitive for Shape {
         t_min: Real,
         t_max: Real,
     ) -> bool {
+        if refs.len() < 4 {
+            return refs
+                .iter()
+                .any(|&r| prims[r as usize].any_hit(ray, shear, t_min, t_max));
+        }
         any_hits_prefiltered(prims, refs, ray, shear, t_min, t_max, |four| {
             Shape::may_hit(shear, four)
         })
