@@ -20,7 +20,7 @@ mod triangle_mt;
 pub use cuboid::Cuboid;
 pub use instance::{Instance, MeshGrid};
 pub use plane::Plane;
-pub use shear::Shear;
+pub use shear::{LazyShear, Shear};
 pub use sphere::Sphere;
 pub use triangle::Triangle;
 pub use triangle_mt::{MtTriangle, MT_EPSILON};
@@ -75,13 +75,14 @@ pub enum Shape {
 }
 
 impl Primitive for Shape {
-    /// The shear frame of the watertight triangles; the other shapes
-    /// compute nothing once per ray.
-    type RayData = Shear;
+    /// The shear frame of the watertight triangles, made when the ray
+    /// first meets one: rays through spheres and boxes alone never pay
+    /// for it.
+    type RayData = LazyShear;
 
     #[inline]
-    fn ray_data(ray: &Ray) -> Shear {
-        Shear::new(ray)
+    fn ray_data(_: &Ray) -> LazyShear {
+        LazyShear::default()
     }
 
     #[inline]
@@ -96,22 +97,28 @@ impl Primitive for Shape {
     }
 
     #[inline]
-    fn closest_hit(&self, ray: &Ray, shear: &Shear, t_min: Real, t_max: Real) -> Option<PrimHit> {
+    fn closest_hit(
+        &self,
+        ray: &Ray,
+        shear: &LazyShear,
+        t_min: Real,
+        t_max: Real,
+    ) -> Option<PrimHit> {
         match self {
             Shape::Sphere(s) => s.closest_hit(ray, &(), t_min, t_max),
             Shape::Cuboid(c) => c.closest_hit(ray, &(), t_min, t_max),
-            Shape::Triangle(t) => t.closest_hit(ray, shear, t_min, t_max),
+            Shape::Triangle(t) => t.closest_hit(ray, shear.of(ray), t_min, t_max),
             Shape::MtTriangle(t) => t.closest_hit(ray, &(), t_min, t_max),
             Shape::Instance(i) => i.closest_hit(ray, &(), t_min, t_max),
         }
     }
 
     #[inline]
-    fn any_hit(&self, ray: &Ray, shear: &Shear, t_min: Real, t_max: Real) -> bool {
+    fn any_hit(&self, ray: &Ray, shear: &LazyShear, t_min: Real, t_max: Real) -> bool {
         match self {
             Shape::Sphere(s) => s.any_hit(ray, &(), t_min, t_max),
             Shape::Cuboid(c) => c.any_hit(ray, &(), t_min, t_max),
-            Shape::Triangle(t) => t.any_hit(ray, shear, t_min, t_max),
+            Shape::Triangle(t) => t.any_hit(ray, shear.of(ray), t_min, t_max),
             Shape::MtTriangle(t) => t.any_hit(ray, &(), t_min, t_max),
             Shape::Instance(i) => i.any_hit(ray, &(), t_min, t_max),
         }
@@ -124,7 +131,7 @@ impl Primitive for Shape {
         prims: &[Self],
         refs: &[u32],
         ray: &Ray,
-        shear: &Shear,
+        shear: &LazyShear,
         t_min: Real,
         t_max: Real,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
@@ -140,7 +147,7 @@ impl Primitive for Shape {
             return;
         }
         closest_hits_prefiltered(prims, refs, ray, shear, t_min, t_max, keep, |four| {
-            Shape::may_hit(shear, four)
+            Shape::may_hit(ray, shear, four)
         });
     }
 
@@ -151,7 +158,7 @@ impl Primitive for Shape {
         prims: &[Self],
         refs: &[u32],
         ray: &Ray,
-        shear: &Shear,
+        shear: &LazyShear,
         t_min: Real,
         t_max: Real,
     ) -> bool {
@@ -161,7 +168,7 @@ impl Primitive for Shape {
                 .any(|&r| prims[r as usize].any_hit(ray, shear, t_min, t_max));
         }
         any_hits_prefiltered(prims, refs, ray, shear, t_min, t_max, |four| {
-            Shape::may_hit(shear, four)
+            Shape::may_hit(ray, shear, four)
         })
     }
 
@@ -183,10 +190,12 @@ impl Shape {
     /// reject most of a cell's triangles at once, as [`Triangle`]'s own
     /// queries do; mixed chunks are all tested one shape at a time.
     #[inline(always)]
-    fn may_hit(shear: &Shear, four: [&Shape; 4]) -> u32 {
+    fn may_hit(ray: &Ray, shear: &LazyShear, four: [&Shape; 4]) -> u32 {
         match four {
             [Shape::Triangle(a), Shape::Triangle(b), Shape::Triangle(c), Shape::Triangle(d)] => {
-                shear.triangles_may_hit(|k| [a, b, c, d].map(|t| t.lanes(k)))
+                shear
+                    .of(ray)
+                    .triangles_may_hit(|k| [a, b, c, d].map(|t| t.lanes(k)))
             }
             _ => 0b1111,
         }

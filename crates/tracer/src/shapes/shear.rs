@@ -138,10 +138,34 @@ impl Shear {
     }
 }
 
+/// A ray's [`Shear`], computed on first use and kept for the rest of the
+/// query: the per-ray data of [`Shape`](super::Shape), whose grids may
+/// hold no triangle at all.
+#[derive(Clone, Debug, Default)]
+pub struct LazyShear(std::cell::OnceCell<Shear>);
+
+impl LazyShear {
+    /// The shear frame of `ray` (the query's ray: every call of one query
+    /// must pass the same).
+    #[inline]
+    pub fn of(&self, ray: &Ray) -> &Shear {
+        self.0.get_or_init(|| Shear::new(ray))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use gridrt_bbox::Vec3;
+
+    #[test]
+    fn lazy_shear_is_the_rays_shear_made_once() {
+        let r = Ray::new(Vec3::new(0.5, -2.0, 3.0), Vec3::new(-0.3, 0.2, -1.0));
+        let lazy = LazyShear::default();
+        let first: *const Shear = lazy.of(&r);
+        assert_eq!(*lazy.of(&r), Shear::new(&r));
+        assert!(std::ptr::eq(first, lazy.of(&r)));
+    }
 
     /// `p` in the shear frame, as the watertight triangle test computes it.
     fn sheared(r: &Ray, p: Vec3) -> [Real; 3] {

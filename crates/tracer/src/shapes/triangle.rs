@@ -561,7 +561,7 @@ mod tests {
             let origin = Vec3::new(o[0] as Real, o[1] as Real, o[2] as Real + 5.0);
             let target = Vec3::new(through[0] as Real, through[1] as Real, through[2] as Real) * 0.5;
             let r = Ray::new(origin, target - origin);
-            let shear = Shear::new(&r);
+            let shear = Shape::ray_data(&r);
             let mut batched = Vec::new();
             Shape::closest_hits(&shapes, &refs, &r, &shear, 0.0, Real::INFINITY, &mut |i, h| {
                 batched.push((i, h));
