@@ -170,16 +170,12 @@ pub trait Primitive: Sync {
         ray: &Ray,
         data: &Self::RayData,
         t_min: Real,
-        mut t_max: Real,
+        t_max: Real,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) where
         Self: Sized,
     {
-        for &r in refs {
-            if let Some(h) = prims[r as usize].closest_hit(ray, data, t_min, t_max) {
-                t_max = keep(r, h);
-            }
-        }
+        closest_hits_each(prims, refs, ray, data, t_min, t_max, keep);
     }
 
     /// Whether any of `prims[r]`, `r` in `refs`, is hit with `t` in
@@ -200,9 +196,42 @@ pub trait Primitive: Sync {
     where
         Self: Sized,
     {
-        refs.iter()
-            .any(|&r| prims[r as usize].any_hit(ray, data, t_min, t_max))
+        any_hits_each(prims, refs, ray, data, t_min, t_max)
     }
+}
+
+/// The default [`Primitive::closest_hits`]: [`Primitive::closest_hit`] one
+/// primitive at a time, for overrides that batch only some cells.
+#[inline(always)]
+pub fn closest_hits_each<P: Primitive>(
+    prims: &[P],
+    refs: &[u32],
+    ray: &Ray,
+    data: &P::RayData,
+    t_min: Real,
+    mut t_max: Real,
+    keep: &mut impl FnMut(u32, PrimHit) -> Real,
+) {
+    for &r in refs {
+        if let Some(h) = prims[r as usize].closest_hit(ray, data, t_min, t_max) {
+            t_max = keep(r, h);
+        }
+    }
+}
+
+/// The default [`Primitive::any_hits`]: [`Primitive::any_hit`] one
+/// primitive at a time until one is hit.
+#[inline(always)]
+pub fn any_hits_each<P: Primitive>(
+    prims: &[P],
+    refs: &[u32],
+    ray: &Ray,
+    data: &P::RayData,
+    t_min: Real,
+    t_max: Real,
+) -> bool {
+    refs.iter()
+        .any(|&r| prims[r as usize].any_hit(ray, data, t_min, t_max))
 }
 
 /// A [`Primitive::closest_hits`] for primitives with a cheap test of four

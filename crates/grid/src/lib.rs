@@ -118,7 +118,8 @@ mod par;
 mod radix;
 
 pub use accel::{
-    any_hits_prefiltered, closest_hits_prefiltered, Accelerator, Hit, PrimHit, Primitive,
+    any_hits_each, any_hits_prefiltered, closest_hits_each, closest_hits_prefiltered, Accelerator,
+    Hit, PrimHit, Primitive,
 };
 pub use config::{
     CellStorage, GridConfig, GridStats, AUTO_MEAN_FACTOR, AUTO_MIN_REFS, DEFAULT_BUDGET_FACTOR,

@@ -427,6 +427,32 @@ fn convert(
             };
             !m.normals.is_empty() || !m.colors.is_empty()
         });
+    for o in &scene.objects {
+        if let Geometry::Plane { point, normal } = o.geometry {
+            data.planes.push(Plane::new(point, normal));
+            data.plane_material.push(o.material);
+        }
+    }
+    // A scene whose primitives are all one sphere set's: the set as it is.
+    let mut sources = scene.objects.iter().filter(|o| match &o.geometry {
+        Geometry::Sphere { .. } => true,
+        Geometry::Spheres(set) => !set.spheres.is_empty(),
+        _ => false,
+    });
+    if let (true, Some(o), None) = (all_spheres, sources.next(), sources.next()) {
+        if let Geometry::Spheres(set) = &o.geometry {
+            if sample_lights {
+                for (k, &sp) in set.spheres.iter().enumerate() {
+                    add_emitter(data, k, &Shape::Sphere(sp), o.material);
+                }
+            }
+            data.prim_material = PrimMaterials::Uniform(o.material);
+            if !set.colors.is_empty() {
+                data.prim_albedo = PrimColors::Set(Arc::clone(set));
+            }
+            return (Prims::Set(Arc::clone(set)), InstancingStats::default());
+        }
+    }
     let mut per_prim = Vec::new();
     if uniform.is_none() {
         per_prim.reserve(count);
@@ -454,32 +480,6 @@ fn convert(
                 data.prim_mesh.extend(n, mesh);
             }
         };
-    for o in &scene.objects {
-        if let Geometry::Plane { point, normal } = o.geometry {
-            data.planes.push(Plane::new(point, normal));
-            data.plane_material.push(o.material);
-        }
-    }
-    // A scene whose primitives are all one sphere set's: the set as it is.
-    let mut sources = scene.objects.iter().filter(|o| match &o.geometry {
-        Geometry::Sphere { .. } => true,
-        Geometry::Spheres(set) => !set.spheres.is_empty(),
-        _ => false,
-    });
-    if let (true, Some(o), None) = (all_spheres, sources.next(), sources.next()) {
-        if let Geometry::Spheres(set) = &o.geometry {
-            if sample_lights {
-                for (k, &sp) in set.spheres.iter().enumerate() {
-                    add_emitter(data, k, &Shape::Sphere(sp), o.material);
-                }
-            }
-            data.prim_material = PrimMaterials::Uniform(o.material);
-            if !set.colors.is_empty() {
-                data.prim_albedo = PrimColors::Set(Arc::clone(set));
-            }
-            return (Prims::Set(Arc::clone(set)), InstancingStats::default());
-        }
-    }
     let mut stats = InstancingStats::default();
     let prims = if all_spheres {
         let mut spheres: Vec<Sphere> = Vec::with_capacity(count);

@@ -26,7 +26,10 @@ pub use triangle::Triangle;
 pub use triangle_mt::{MtTriangle, MT_EPSILON};
 
 use gridrt_bbox::{Aabb, Ray, Real, Vec3};
-use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primitive};
+use gridrt_grid::{
+    any_hits_each, any_hits_prefiltered, closest_hits_each, closest_hits_prefiltered, PrimHit,
+    Primitive,
+};
 
 /// A surface point found by a ray, as shading and secondary rays need it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -138,13 +141,7 @@ impl Primitive for Shape {
     ) {
         if refs.len() < 4 {
             // Too few for the four-lane filter to pay for its set-up.
-            let mut t_max = t_max;
-            for &r in refs {
-                if let Some(h) = prims[r as usize].closest_hit(ray, shear, t_min, t_max) {
-                    t_max = keep(r, h);
-                }
-            }
-            return;
+            return closest_hits_each(prims, refs, ray, shear, t_min, t_max, keep);
         }
         closest_hits_prefiltered(prims, refs, ray, shear, t_min, t_max, keep, |four| {
             Shape::may_hit(ray, shear, four)
@@ -163,9 +160,7 @@ impl Primitive for Shape {
         t_max: Real,
     ) -> bool {
         if refs.len() < 4 {
-            return refs
-                .iter()
-                .any(|&r| prims[r as usize].any_hit(ray, shear, t_min, t_max));
+            return any_hits_each(prims, refs, ray, shear, t_min, t_max);
         }
         any_hits_prefiltered(prims, refs, ray, shear, t_min, t_max, |four| {
             Shape::may_hit(ray, shear, four)
