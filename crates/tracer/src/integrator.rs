@@ -583,6 +583,16 @@ where
     /// that a render loop can gather them for several hits at once.
     #[inline]
     pub(crate) fn shading(&self, ray: &Ray, found: Found) -> Shading {
+        if self.data.tex.any() {
+            self.textured(ray, found)
+        } else {
+            self.untextured(ray, found)
+        }
+    }
+
+    /// [`Tracer::shading`] before textures.
+    #[inline]
+    fn untextured(&self, ray: &Ray, found: Found) -> Shading {
         match found {
             Found::Prim(h) => {
                 let i = h.prim as usize;
@@ -599,7 +609,7 @@ where
                 {
                     ns = if n.dot(sp.n) < 0.0 { -n } else { n };
                 }
-                let mut sh = Shading {
+                Shading {
                     t: h.t,
                     sp,
                     material: self.data.prim_material.get(i),
@@ -610,13 +620,11 @@ where
                         .or_else(|| self.data.prim_albedo.get(i).copied()),
                     emission: Rgb::ZERO,
                     metal_rough: None,
-                };
-                self.textured(ray, &mut sh, || tri.and_then(|t| Self::uv_at(&t, h.u, h.v)));
-                sh
+                }
             }
             Found::Plane { index, t } => {
                 let sp = self.data.planes[index as usize].surface(ray, t);
-                let mut sh = Shading {
+                Shading {
                     t,
                     sp,
                     material: self.data.plane_material[index as usize],
@@ -624,9 +632,7 @@ where
                     albedo: None,
                     emission: Rgb::ZERO,
                     metal_rough: None,
-                };
-                self.textured(ray, &mut sh, || None);
-                sh
+                }
             }
             Found::Area { index, t } => {
                 let l = &self.data.area_lights[index as usize];
@@ -644,18 +650,39 @@ where
         }
     }
 
-    /// Applies the textures of `sh`'s material to it (none: unchanged).
-    #[inline]
-    fn textured(&self, ray: &Ray, sh: &mut Shading, uv: impl FnOnce() -> Option<HitUv>) {
-        if let Some(maps) = self.data.tex.of(sh.material) {
-            self.apply_textures(ray, sh, maps, uv());
-        }
+    /// [`Tracer::shading`] in a scene with textures: out of line, so that
+    /// untextured scenes' shading stays small and builds its result in
+    /// place (a `Shading` whose address is taken lives on the stack, and
+    /// copying it out after field-by-field stores stalls store-to-load
+    /// forwarding on every hit).
+    #[inline(never)]
+    fn textured(&self, ray: &Ray, found: Found) -> Shading {
+        let sh = self.untextured(ray, found);
+        // Area lights' own surfaces are never textured.
+        let maps = match found {
+            Found::Area { .. } => None,
+            _ => self.data.tex.of(sh.material),
+        };
+        let Some(maps) = maps else {
+            return sh;
+        };
+        let uv = match found {
+            Found::Prim(h) => self
+                .mesh_triangle(&h)
+                .and_then(|t| Self::uv_at(&t, h.u, h.v)),
+            _ => None,
+        };
+        self.apply_textures(ray, sh, maps, uv)
     }
 
-    /// [`Tracer::textured`] for a material with textures: out of line, so
-    /// that untextured scenes' shading stays small.
-    #[inline(never)]
-    fn apply_textures(&self, ray: &Ray, sh: &mut Shading, maps: &MaterialMaps, uv: Option<HitUv>) {
+    /// Applies the textures `maps` of `sh`'s material to it.
+    fn apply_textures(
+        &self,
+        ray: &Ray,
+        mut sh: Shading,
+        maps: &MaterialMaps,
+        uv: Option<HitUv>,
+    ) -> Shading {
         let q = self.data.tex.query(ray, sh.t, sh.sp.p, sh.sp.n, uv);
         let base = sh.albedo.unwrap_or_else(|| {
             self.data
@@ -678,6 +705,7 @@ where
         }
         sh.emission = t.emission;
         sh.ns = t.ns;
+        sh
     }
 }
 

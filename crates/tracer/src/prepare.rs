@@ -276,9 +276,12 @@ fn shading_data(scene: &Scene, plan: &EffectPlan) -> SceneData {
 /// The scene's textures as shading reads them.
 fn texture_data(scene: &Scene, footprint: [f32; 2]) -> TextureData {
     let t = &scene.textures;
-    let maps: Vec<_> = (0..scene.materials.len())
+    let mut maps: Vec<_> = (0..scene.materials.len())
         .map(|i| t.maps.get(i).filter(|m| m.is_active()).cloned())
         .collect();
+    if maps.iter().all(Option::is_none) {
+        maps.clear();
+    }
     let alpha = maps
         .iter()
         .flatten()

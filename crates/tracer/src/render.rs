@@ -778,6 +778,7 @@ impl Job<'_> {
                     hits += u64::from(hit);
                 }
             } else if I::BATCH {
+                let one_sample = PixelSamples::new(self.sampler, 1);
                 // One row of the tile in three passes: trace every camera
                 // ray, gather the hits' shading data, shade. Gathering in a
                 // tight loop lets the cache misses on per-primitive data
@@ -794,14 +795,15 @@ impl Job<'_> {
                 ts.counts.camera += n as u64;
                 let shading: [Option<Shading>; N] =
                     std::array::from_fn(|k| found[k].map(|f| tr.shading(&rays[k], f)));
-                let mut stream = SampleStream::new(self.sampler, 0, 0, 1);
+                let mut stream = one_sample.stream(0);
                 for k in 0..n {
                     let li = I::shade(tr, &rays[k], shading[k].as_ref(), 0, &mut stream, ts);
                     pixels.push(li.color);
                     hits += u64::from(li.hit);
                 }
             } else {
-                let mut stream = SampleStream::new(self.sampler, 0, 0, 1);
+                let one_sample = PixelSamples::new(self.sampler, 1);
+                let mut stream = one_sample.stream(0);
                 for x in tile.x0..tile.x1 {
                     let ray = self.camera.ray(x, r, 0.5, 0.5);
                     ts.counts.camera += 1;

@@ -122,10 +122,10 @@ impl PixelSamples {
 
     /// Sample `index` of the pixel's `n`.
     #[inline]
-    pub(crate) fn stream(&self, index: u32) -> SampleStream {
+    pub(crate) fn stream(&self, index: u32) -> SampleStream<'_> {
         debug_assert!(index < self.n);
         SampleStream {
-            pixel: *self,
+            pixel: self,
             index,
             pair: 0,
         }
@@ -135,22 +135,18 @@ impl PixelSamples {
 /// The samples of one pixel sample: dimension pairs are drawn in order with
 /// [`SampleStream::next_2d`].
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct SampleStream {
-    /// The pixel's hashes and strata.
-    pixel: PixelSamples,
+pub(crate) struct SampleStream<'p> {
+    /// The pixel's hashes and strata, borrowed: a copy made per sample
+    /// would be read back through wider loads than its stores, which
+    /// stalls store-to-load forwarding on every sample.
+    pixel: &'p PixelSamples,
     /// Sample index in `0..n`.
     index: u32,
     /// The next dimension pair.
     pair: u32,
 }
 
-impl SampleStream {
-    /// Sample `index` of `n` of the pixel with image index `pixel`.
-    #[inline]
-    pub(crate) fn new(kind: SamplerKind, pixel: u64, index: u32, n: u32) -> Self {
-        PixelSamples::new(kind, n).at(pixel).stream(index)
-    }
-
+impl SampleStream<'_> {
     /// The next 2D sample in `[0, 1)²`.
     #[inline]
     pub(crate) fn next_2d(&mut self) -> (Real, Real) {
@@ -237,7 +233,7 @@ pub(crate) fn rotated_hammersley(k: u32, n: u32, u: (Real, Real)) -> (Real, Real
 /// Dimension pair `pair` of sample `s` of `n` of pixel `pixel`.
 #[cfg(test)]
 pub(crate) fn sample_2d(kind: SamplerKind, pixel: u64, s: u32, n: u32, pair: u32) -> (Real, Real) {
-    SampleStream::new(kind, pixel, s, n).get(pair)
+    PixelSamples::new(kind, n).at(pixel).stream(s).get(pair)
 }
 
 #[cfg(test)]

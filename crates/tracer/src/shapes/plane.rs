@@ -1,3 +1,4 @@
+use glam::BVec3;
 use gridrt_bbox::{gamma, Ray, Real, Vec3};
 
 use super::SurfacePoint;
@@ -11,6 +12,15 @@ pub struct Plane {
     pub point: Vec3,
     /// Unit normal (the front side).
     pub normal: Vec3,
+    /// The axis `k` of the normal's largest component, as a lane mask, and
+    /// the normal with that lane zeroed: [`Plane::surface`] solves the hit
+    /// point's coordinate `k` from the other two.
+    solve: BVec3,
+    /// `normal` with lane `k` set to zero.
+    in_plane_normal: Vec3,
+    /// `point[k]` and `normal[k]`.
+    point_k: Real,
+    normal_k: Real,
 }
 
 impl Plane {
@@ -19,9 +29,16 @@ impl Plane {
     #[inline]
     #[must_use]
     pub fn new(point: Vec3, normal: Vec3) -> Self {
+        let normal = normal.try_normalize().unwrap_or(Vec3::ZERO);
+        let k = normal.abs().max_position();
+        let solve = BVec3::new(k == 0, k == 1, k == 2);
         Self {
             point,
-            normal: normal.try_normalize().unwrap_or(Vec3::ZERO),
+            normal,
+            solve,
+            in_plane_normal: Vec3::select(solve, Vec3::ZERO, normal),
+            point_k: point[k],
+            normal_k: normal[k],
         }
     }
 
@@ -61,18 +78,15 @@ impl Plane {
     /// coordinate is `point`'s own, exactly.
     #[inline]
     pub(crate) fn surface(&self, ray: &Ray, t: Real) -> SurfacePoint {
-        let mut p = ray.at(t);
-        let n = self.normal;
-        let k = n.abs().max_position();
-        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
-        let a = (p[i] - self.point[i]) * n[i];
-        let b = (p[j] - self.point[j]) * n[j];
-        p[k] = self.point[k] - (a + b) / n[k];
-        let mut p_err = Vec3::ZERO;
-        p_err[k] = (a.abs() + b.abs()) / n[k].abs() * gamma(5) + p[k].abs() * gamma(1);
+        let p = ray.at(t);
+        // The two in-plane terms, with lane k zero: their sum in lane order
+        // is exactly `a + b` of the two other axes, whichever axis k is.
+        let d = (p - self.point) * self.in_plane_normal;
+        let pk = self.point_k - d.element_sum() / self.normal_k;
+        let err = d.abs().element_sum() / self.normal_k.abs() * gamma(5) + pk.abs() * gamma(1);
         SurfacePoint {
-            p,
-            p_err,
+            p: Vec3::select(self.solve, Vec3::splat(pk), p),
+            p_err: Vec3::select(self.solve, Vec3::splat(err), Vec3::ZERO),
             n: self.normal,
         }
     }

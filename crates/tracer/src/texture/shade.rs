@@ -59,6 +59,7 @@ pub(crate) struct HitUv {
 pub(crate) struct TextureData {
     pub list: Vec<Texture>,
     /// One entry per material; `None` for materials without active maps.
+    /// Empty when no material has any.
     pub maps: Vec<Option<MaterialMaps>>,
     /// A pixel's footprint at distance `d` along a unit ray is
     /// `footprint[0] + footprint[1]·d` world units.
@@ -68,6 +69,12 @@ pub(crate) struct TextureData {
 }
 
 impl TextureData {
+    /// Whether some material has active maps.
+    #[inline]
+    pub(crate) fn any(&self) -> bool {
+        !self.maps.is_empty()
+    }
+
     /// The maps of material `m`, if it has any.
     #[inline]
     pub(crate) fn of(&self, m: u32) -> Option<&MaterialMaps> {
