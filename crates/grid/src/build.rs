@@ -29,7 +29,8 @@ pub(crate) struct Built {
     pub geom: Geom,
     pub cells: Cells,
     pub refs: Box<[u32]>,
-    /// Primitives whose box is not finite (NaN, infinite or empty): tested by every query.
+    /// Primitives whose box is not finite (NaN, infinite or empty), or all
+    /// of them for [`GridConfig::direct`]: tested by every query.
     pub unbounded: Box<[u32]>,
     /// Morton spread tables per axis (hashed storage only).
     pub spread: [Box<[u64]>; 3],
@@ -39,6 +40,23 @@ pub(crate) struct Built {
     /// slots, numbered in the order the primitives first appear in the
     /// references (cell order).
     pub ids: Box<[u32]>,
+}
+
+impl Built {
+    /// No cells: every query tests the `n` primitives
+    /// ([`GridConfig::direct`]).
+    fn direct(n: usize) -> Self {
+        Built {
+            geom: Geom::empty(),
+            cells: Cells::Empty,
+            refs: Box::new([]),
+            unbounded: (0..n as u32).collect(),
+            spread: [Box::new([]), Box::new([]), Box::new([])],
+            occupied: 0,
+            max_refs: 0,
+            ids: Box::new([]),
+        }
+    }
 }
 
 /// Builds the cell structure for `prims`; the references hold slots (see
@@ -89,14 +107,8 @@ pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig, budget: usiz
     let unbounded = unbounded.into_boxed_slice();
     if gridded == 0 {
         return Built {
-            geom: Geom::empty(),
-            cells: Cells::Empty,
-            refs: Box::new([]),
             unbounded,
-            spread: [Box::new([]), Box::new([]), Box::new([])],
-            occupied: 0,
-            max_refs: 0,
-            ids: Box::new([]),
+            ..Built::direct(0)
         };
     }
 
@@ -106,6 +118,7 @@ pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig, budget: usiz
     let max_cells = config.max_cells.clamp(1, HARD_MAX_CELLS);
     let mut dims = match config.dims {
         Some(d) => geom::cap_cells(d.map(|n| u64::from(n.max(1))), max_cells),
+        None if config.direct(n) => [1; 3],
         None => geom::resolution(ext, gridded, geom::sanitize_m(config.m), max_cells),
     };
     // References are bounded too, so that huge primitives over a fine grid cannot

@@ -127,6 +127,12 @@ pub const AUTO_MIN_REFS: u32 = 48;
 /// cells, empty ones included).
 pub const AUTO_MEAN_FACTOR: f64 = 6.0;
 
+/// [`GridConfig::auto`]: a scene of at most this many primitives gets no
+/// cells; every ray tests them all, four at a time where the primitive
+/// can. Below it, entering a grid's box and walking its cells cost more
+/// than the tests they save (measured in the crate README).
+pub const AUTO_DIRECT_MAX: usize = 16;
+
 /// The default memory budget, in units of the primitives' own size.
 pub const DEFAULT_BUDGET_FACTOR: usize = 8;
 
@@ -135,6 +141,14 @@ pub const DEFAULT_BUDGET_FACTOR: usize = 8;
 pub const MIN_BUDGET: usize = 4 << 20;
 
 impl GridConfig {
+    /// Whether a grid over `n` primitives built with this configuration
+    /// tests them all directly ([`AUTO_DIRECT_MAX`]): `auto`, with neither
+    /// nesting nor the cells per axis set.
+    #[must_use]
+    pub fn direct(&self, n: usize) -> bool {
+        self.auto && self.nest_min_refs == 0 && self.dims.is_none() && n <= AUTO_DIRECT_MAX
+    }
+
     /// The memory budget for `n` primitives of `prim_size` bytes each
     /// ([`GridConfig::memory_budget`]), before the floor of one reference
     /// per primitive.

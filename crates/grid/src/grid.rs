@@ -65,6 +65,9 @@ pub struct Grid<P> {
     ids: Box<[u32]>,
     /// The slots of the primitives kept outside the cells.
     unbounded: Box<[u32]>,
+    /// One cell, whose references every query that meets the grid box
+    /// tests without walking ([`GridConfig::direct`]).
+    direct: bool,
     spread: [Box<[u64]>; 3],
     blocks: BlockMap,
     /// One bit per cell key: set when the cell holds references.
@@ -233,6 +236,7 @@ impl<P: Primitive> Grid<P> {
             refs: b.refs,
             ids,
             unbounded,
+            direct: false,
             spread: b.spread,
             blocks: BlockMap::default(),
             occ: Box::new([]),
@@ -254,6 +258,10 @@ impl<P: Primitive> Grid<P> {
         };
         let nested = Nested::build(&grid.prims, &grid.geom, &grid.refs, crowded, &params);
         grid.nested = nested;
+        grid.direct = config.direct(n)
+            && grid.geom.cell_count() == 1
+            && grid.nested.subs.is_empty()
+            && !config.mailbox;
         let build_time = start.elapsed();
         let cells = grid.geom.cell_count();
         let table_bytes = match &grid.cells {
@@ -592,8 +600,8 @@ impl<P: Primitive> Grid<P> {
         }
         // The primitives' ray data only for a ray that has something to
         // test: one that enters the grid, or any with unbounded primitives.
-        let dda = Dda::new(&self.geom, ray, t_min, t_max);
-        if dda.is_none() && self.unbounded.is_empty() {
+        let (dda, direct) = self.enter(ray, t_min, t_max);
+        if dda.is_none() && !direct && self.unbounded.is_empty() {
             return None;
         }
         let data = P::ray_data(ray);
@@ -612,8 +620,10 @@ impl<P: Primitive> Grid<P> {
             stamp: 0,
             counters,
         };
-        for &p in self.unbounded.iter() {
-            q.test(p);
+        q.test_each(&self.unbounded);
+        if direct {
+            q.counters.cell();
+            q.test_each(&self.refs);
         }
         let Some(dda) = dda else {
             return q.best;
@@ -631,6 +641,18 @@ impl<P: Primitive> Grid<P> {
         q.best
     }
 
+    /// Where a query over `[t_min, t_max]` enters the grid: the walk's
+    /// start, or for a direct grid whether the ray meets its box.
+    #[inline(always)]
+    fn enter(&self, ray: &Ray, t_min: Real, t_max: Real) -> (Option<Dda<'_>>, bool) {
+        if self.direct {
+            let g = &self.geom;
+            (None, g.entry.hit_with(g.slab, ray, t_min, t_max).is_some())
+        } else {
+            (Dda::new(&self.geom, ray, t_min, t_max), false)
+        }
+    }
+
     #[inline(always)]
     fn any<C: Counters, const MB: bool>(
         &self,
@@ -645,16 +667,19 @@ impl<P: Primitive> Grid<P> {
             return false;
         }
         // Ray data only for a ray with something to test (as in `closest`).
-        let dda = Dda::new(&self.geom, ray, t_min, t_max);
-        if dda.is_none() && self.unbounded.is_empty() {
+        let (dda, direct) = self.enter(ray, t_min, t_max);
+        if dda.is_none() && !direct && self.unbounded.is_empty() {
             return false;
         }
         let data = P::ray_data(ray);
-        for &p in self.unbounded.iter() {
-            counters.test();
-            if self.prims[p as usize].any_hit(ray, &data, t_min, t_max) {
-                return true;
-            }
+        counters.tests(self.unbounded.len());
+        if P::any_hits(&self.prims, &self.unbounded, ray, &data, t_min, t_max) {
+            return true;
+        }
+        if direct {
+            counters.cell();
+            counters.tests(self.refs.len());
+            return P::any_hits(&self.prims, &self.refs, ray, &data, t_min, t_max);
         }
         let Some(dda) = dda else {
             return false;

@@ -122,8 +122,8 @@ pub use accel::{
     Hit, PrimHit, Primitive,
 };
 pub use config::{
-    CellStorage, GridConfig, GridStats, AUTO_MEAN_FACTOR, AUTO_MIN_REFS, DEFAULT_BUDGET_FACTOR,
-    MIN_BUDGET,
+    CellStorage, GridConfig, GridStats, AUTO_DIRECT_MAX, AUTO_MEAN_FACTOR, AUTO_MIN_REFS,
+    DEFAULT_BUDGET_FACTOR, MIN_BUDGET,
 };
 pub use counters::{Counters, NoCounters, QueryCounters};
 pub use dda::{CellIter, CellVisit};

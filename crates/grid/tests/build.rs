@@ -24,6 +24,8 @@ fn resolution_follows_the_lecture_formula() {
                 s,
                 &GridConfig {
                     m: m as Real,
+                    // The flat grid: `auto` tests ten spheres directly.
+                    auto: false,
                     ..GridConfig::default()
                 },
             );
@@ -559,4 +561,52 @@ fn building_from_a_slice_is_building_from_the_vector() {
             assert_eq!(ha.map(|h| h.slot), hb.map(|h| h.slot));
         }
     }
+}
+
+/// `auto` over at most `AUTO_DIRECT_MAX` primitives: one cell, tested
+/// without a walk, and the exhaustive answers for closest and any hit;
+/// one primitive more gets the lecture's grid.
+#[test]
+fn auto_tests_a_handful_of_primitives_directly() {
+    use crate::support::Checker;
+    use gridrt_grid::AUTO_DIRECT_MAX;
+    let mut rng = Lcg::new(7);
+    let mut prims: Vec<Shape> = Vec::new();
+    for i in 0..=AUTO_DIRECT_MAX {
+        let c = Vec3::new(
+            rng.range(-4.0, 4.0),
+            rng.range(-4.0, 4.0),
+            rng.range(-4.0, 4.0),
+        );
+        prims.push(if i % 2 == 0 {
+            Shape::Sphere(Sphere::new(c, rng.range(0.1, 1.5)))
+        } else {
+            let d = |rng: &mut Lcg| Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 0.3);
+            Shape::Triangle(Triangle::new(c, c + d(&mut rng), c + d(&mut rng)))
+        });
+    }
+    let auto = GridConfig::default();
+    let big = Grid::build(prims.clone(), &auto);
+    assert!(big.stats().cells > 1, "{:?}", big.stats().dims);
+    prims.pop();
+    let few = Grid::build(prims.clone(), &auto);
+    assert_eq!(few.stats().dims, [1, 1, 1]);
+    assert_eq!(few.stats().references, AUTO_DIRECT_MAX as u64);
+    let check = Checker::new(prims, &[auto]);
+    let mut hits = 0;
+    for i in 0..2000 {
+        let o = Vec3::new(
+            rng.range(-6.0, 6.0),
+            rng.range(-6.0, 6.0),
+            rng.range(-6.0, 6.0),
+        );
+        let d = Vec3::new(
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+        );
+        let t_max = if i % 3 == 0 { 2.0 } else { Real::INFINITY };
+        hits += usize::from(check.check(&Ray::new(o, d), 0.0, t_max).is_some());
+    }
+    assert!(hits > 100, "{hits} hits");
 }

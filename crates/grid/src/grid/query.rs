@@ -49,6 +49,19 @@ pub(super) struct Closest<'q, P: Primitive, C, const MB: bool> {
 }
 
 impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
+    /// Tests the primitives in slots `refs` without the mailbox, four at a
+    /// time where the primitive can ([`Primitive::closest_hits`]).
+    #[inline(always)]
+    pub(super) fn test_each(&mut self, refs: &[u32]) {
+        self.counters.tests(refs.len());
+        let (prims, ids, ray, data, t_min, t_lim) = (
+            self.prims, self.ids, self.ray, self.data, self.t_min, self.t_lim,
+        );
+        P::closest_hits(prims, refs, ray, data, t_min, t_lim, &mut |r, h| {
+            self.keep(Hit::new(h, prim_id(ids, r), r))
+        });
+    }
+
     /// Tests the primitive in slot `r`, keeping its hit if it is better
     /// ([`Hit::is_better_than`]).
     #[inline(always)]
@@ -139,14 +152,7 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
     #[inline(always)]
     fn test_refs(&mut self, refs: &[u32]) {
         if !MB {
-            self.counters.tests(refs.len());
-            let (prims, ids, ray, data, t_min, t_lim) = (
-                self.prims, self.ids, self.ray, self.data, self.t_min, self.t_lim,
-            );
-            P::closest_hits(prims, refs, ray, data, t_min, t_lim, &mut |r, h| {
-                self.keep(Hit::new(h, prim_id(ids, r), r))
-            });
-            return;
+            return self.test_each(refs);
         }
         // With the mailbox, one at a time: each reference's stamp decides.
         for &p in refs {
