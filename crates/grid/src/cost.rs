@@ -19,7 +19,7 @@
 //! the estimate leans to the flat cell. The cell is nested only when the
 //! nested cost is at most [`MARGIN`] of the flat one.
 
-use crate::geom::Geom;
+use crate::geom::{self, Geom};
 use gridrt_bbox::Aabb;
 
 /// What entering a nested grid costs, in primitive tests: finding it,
@@ -54,7 +54,7 @@ pub fn min_refs() -> u32 {
 /// `direct` references tested on entry.
 pub(crate) fn nested(cell: &Aabb, g: &Geom, refs: u64, direct: usize) -> f64 {
     let e = g.bounds.extent();
-    let [ex, ey, ez] = [e.x, e.y, e.z].map(f64::from);
+    let [ex, ey, ez] = [e.x, e.y, e.z].map(geom::wide);
     let [nx, ny, nz] = g.dims.map(f64::from);
     let faces = ex * ey + ey * ez + ez * ex;
     // The share of the box's area that one nested cell has: a ray crossing
@@ -66,7 +66,7 @@ pub(crate) fn nested(cell: &Aabb, g: &Geom, refs: u64, direct: usize) -> f64 {
     };
     let cells = share * nx * ny * nz;
     let tests = share * refs as f64;
-    let outer = f64::from(cell.surface_area());
+    let outer = geom::wide(cell.surface_area());
     let p = if outer > 0.0 {
         (2.0 * faces / outer).min(1.0)
     } else {
