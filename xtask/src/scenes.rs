@@ -12,7 +12,7 @@ use crate::peer::{self, Peer, PeerRun};
 use crate::scenes_report::{self, Cell, Report, Row};
 use crate::util;
 use gridrt_grid::{
-    Accelerator, Exhaustive, Grid, GridConfig, Primitive, QueryCounters, Real, AUTO_MIN_REFS,
+    Accelerator, Exhaustive, Grid, GridConfig, Primitive, QueryCounters, Real, HIERARCHY_MIN_REFS,
 };
 use std::path::PathBuf;
 use std::time::Instant;
@@ -97,7 +97,7 @@ fn config(name: &str) -> GridConfig {
         "grid" => c.auto = false,
         "hierarchy" => {
             c.auto = false;
-            c.nest_min_refs = AUTO_MIN_REFS;
+            c.nest_min_refs = HIERARCHY_MIN_REFS;
         }
         _ => {}
     }

@@ -93,14 +93,15 @@ pub struct GridConfig {
     /// Values that are not finite and positive are treated as the
     /// lecture's 2.
     pub nest_m: Option<Real>,
-    /// Let the build choose between the flat grid and the hierarchy of
-    /// nested grids from the flat grid it has built (the default): when
-    /// [`Self::nest_min_refs`] is 0, cells with at least
-    /// [`AUTO_MIN_REFS`] references and at least [`AUTO_MEAN_FACTOR`]
-    /// times the references per cell (all cells) get nested grids, recursively
-    /// (see the crate README for the rule and the measurements behind it).
-    /// An explicit `nest_min_refs` wins; `auto: false` with
-    /// `nest_min_refs: 0` is the flat grid.
+    /// Let the build decide, cell by cell, from the flat grid it has
+    /// built, which cells get nested grids (the default): when
+    /// [`Self::nest_min_refs`] is 0, each cell of at least
+    /// [`crate::cost::min_refs`] references gets one only where the cost
+    /// model of [`crate::cost`] expects a ray crossing the cell to pay less
+    /// with it (the same rule one level down, recursively; see the crate
+    /// README for the rule and the measurements behind it). An explicit
+    /// `nest_min_refs` wins and nests every cell it admits; `auto: false`
+    /// with `nest_min_refs: 0` is the flat grid.
     pub auto: bool,
     /// The most bytes the grid's index may take ([`GridStats::bytes`]):
     /// cells, references, slot ids, maps and nested grids. `None`: [`DEFAULT_BUDGET_FACTOR`]
@@ -119,13 +120,10 @@ pub struct GridConfig {
     pub slab: SlabTest,
 }
 
-/// [`GridConfig::auto`]: a cell gets a nested grid only if it holds at
-/// least this many references…
-pub const AUTO_MIN_REFS: u32 = 48;
-
-/// …and at least this many times the references per cell (over all
-/// cells, empty ones included).
-pub const AUTO_MEAN_FACTOR: f64 = 6.0;
+/// The `nest_min_refs` of the hierarchy that nests every crowded cell
+/// (the CLI's `--accel hierarchy`), beside [`GridConfig::auto`]'s
+/// cell-by-cell choice.
+pub const HIERARCHY_MIN_REFS: u32 = 48;
 
 /// [`GridConfig::auto`]: a scene of at most this many primitives gets no
 /// cells; every ray tests them all, four at a time where the primitive
@@ -187,8 +185,9 @@ pub struct GridStats {
     pub nested_cells: u64,
     /// The deepest level of nested grids (0: the flat grid alone).
     pub nest_levels: u32,
-    /// The `nest_min_refs` the build used (chosen by [`GridConfig::auto`]
-    /// or given; 0: no nesting).
+    /// The `nest_min_refs` the build used (given, or with
+    /// [`GridConfig::auto`] the cost model's [`crate::cost::min_refs`];
+    /// 0: no nesting).
     pub nest_min_refs: u32,
     /// The memory budget the build kept to ([`GridConfig::memory_budget`]).
     pub budget: usize,

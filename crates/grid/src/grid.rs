@@ -245,7 +245,7 @@ impl<P: Primitive> Grid<P> {
         };
         grid.blocks = grid.block_map();
         grid.occ = grid.occupancy_bits();
-        let min_refs = grid.nest_threshold(b.occupied, b.max_refs);
+        let (min_refs, cost) = grid.nest_threshold(b.occupied, b.max_refs);
         let flat_bytes = grid.index_bytes();
         let crowded = grid.runs(min_refs as usize);
         let params = NestParams {
@@ -255,6 +255,7 @@ impl<P: Primitive> Grid<P> {
             parallel: config.parallel_build,
             pad: grid.geom.pad,
             slab: config.slab,
+            cost,
         };
         let nested = Nested::build(&grid.prims, &grid.geom, &grid.refs, crowded, &params);
         grid.nested = nested;
@@ -331,26 +332,22 @@ impl<P: Primitive> Grid<P> {
             + self.nested.bytes()
     }
 
-    /// The `nest_min_refs` of this build: the configured one, or, with
-    /// [`GridConfig::auto`] and none configured, [`crate::AUTO_MIN_REFS`]
-    /// and at least [`crate::AUTO_MEAN_FACTOR`] times the references per
-    /// cell (over all cells, empty ones included, so that a cluster that
-    /// fills the few occupied cells still stands out), if some cell
-    /// reaches it (0: no nesting).
-    fn nest_threshold(&self, occupied: u64, max_refs: u32) -> u32 {
+    /// The `nest_min_refs` of this build, and whether the cost model
+    /// decides cell by cell: the configured one, or, with
+    /// [`GridConfig::auto`] and none configured, the fewest references
+    /// for which the cost model lets a nested grid pay
+    /// ([`crate::cost::min_refs`]), if some cell reaches it (0: no
+    /// nesting).
+    fn nest_threshold(&self, occupied: u64, max_refs: u32) -> (u32, bool) {
         let c = &self.config;
         if c.nest_min_refs > 0 || !c.auto || occupied == 0 {
-            return c.nest_min_refs;
+            return (c.nest_min_refs, false);
         }
-        let mean = self.refs.len() as f64 / self.geom.cell_count().max(1) as f64;
-        let t = (crate::AUTO_MEAN_FACTOR * mean)
-            .ceil()
-            .min(f64::from(u32::MAX)) as u32;
-        let t = t.max(crate::AUTO_MIN_REFS);
+        let t = crate::cost::min_refs();
         if max_refs >= t {
-            t
+            (t, true)
         } else {
-            0
+            (0, false)
         }
     }
 

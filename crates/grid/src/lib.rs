@@ -103,6 +103,7 @@ mod accel;
 mod build;
 mod cells;
 mod config;
+pub mod cost;
 mod counters;
 mod dda;
 mod dense_build;
@@ -122,8 +123,8 @@ pub use accel::{
     Hit, PrimHit, Primitive,
 };
 pub use config::{
-    CellStorage, GridConfig, GridStats, AUTO_DIRECT_MAX, AUTO_MEAN_FACTOR, AUTO_MIN_REFS,
-    DEFAULT_BUDGET_FACTOR, MIN_BUDGET,
+    AUTO_DIRECT_MAX, CellStorage, GridConfig, GridStats, DEFAULT_BUDGET_FACTOR,
+    HIERARCHY_MIN_REFS, MIN_BUDGET,
 };
 pub use counters::{Counters, NoCounters, QueryCounters};
 pub use dda::{CellIter, CellVisit};

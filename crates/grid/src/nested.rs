@@ -4,10 +4,11 @@
 //! Billeter & Slusallek (2011). The grid's resolution follows the whole
 //! scene, so the cells around a detailed object hold hundreds or thousands
 //! of primitives. A cell with at least `min_refs` references gets a dense
-//! grid of its own, over the **tight** box of its references clipped to
-//! the cell, with a resolution from the cell's own reference count (the
-//! lecture's formula, about `m³` cells per reference); its crowded cells
-//! get grids of their own in turn.
+//! grid of its own (with [`crate::GridConfig::auto`], only where the cost
+//! model of [`crate::cost`] says it pays), over the **tight** box of its
+//! references clipped to the cell, with a resolution from the cell's own
+//! reference count (the lecture's formula, about `m³` cells per
+//! reference); its crowded cells get grids of their own in turn.
 //!
 //! **Stopping rule.** A nested cell is subdivided again only if (1) it
 //! holds at least `min_refs` references, (2) at most [`PROGRESS`] of its
@@ -41,6 +42,7 @@
 //! cell, ties included.
 
 use crate::cells::dense_occupancy;
+use crate::cost;
 use crate::geom::{self, Geom};
 use crate::par::map_indices;
 use crate::Primitive;
@@ -86,6 +88,9 @@ pub(crate) struct NestParams {
     pub pad: Real,
     /// The slab test of the walk's entry ([`crate::GridConfig::slab`]).
     pub slab: gridrt_bbox::SlabTest,
+    /// Build a nested grid only where the cost model expects it to pay
+    /// ([`crate::GridConfig::auto`], [`crate::cost`]).
+    pub cost: bool,
 }
 
 /// The nested grid of one crowded cell.
@@ -530,6 +535,12 @@ fn plan<P: Primitive>(
         > MAX_HEAVY
     {
         return None;
+    }
+    if p.cost {
+        let est = cost::nested(&g.padded_cell_box(idx), &geom, total, direct.len());
+        if !cost::pays(refs.len(), est) {
+            return None;
+        }
     }
     for c in 0..count {
         offsets[c + 1] += offsets[c];

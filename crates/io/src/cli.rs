@@ -17,7 +17,7 @@ use crate::sandbox::Sandbox;
 use crate::scene::{default_scene, load_scene_in, LoadedScene, DEFAULT_SCENE_NAME};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use gridrt_bbox::{Aabb, Real, Vec3};
-use gridrt_grid::{CellStorage, GridConfig, GridStats, QueryCounters, AUTO_MIN_REFS};
+use gridrt_grid::{CellStorage, GridConfig, GridStats, QueryCounters, HIERARCHY_MIN_REFS};
 use gridrt_tracer::{
     AccelKind, Geometry, Light, Projection, RenderOptions, RenderStats, Renderer, Scene,
 };
@@ -277,7 +277,7 @@ impl AccelArgs {
         g.nest_m = self.grid_nest_m.map(|m| m as Real);
         match self.accel {
             Accel::Grid | Accel::HashedGrid => g.auto = false,
-            Accel::Hierarchy if g.nest_min_refs == 0 => g.nest_min_refs = AUTO_MIN_REFS,
+            Accel::Hierarchy if g.nest_min_refs == 0 => g.nest_min_refs = HIERARCHY_MIN_REFS,
             _ => {}
         }
         g.storage = match self.accel {
