@@ -129,7 +129,7 @@ pub const HIERARCHY_MIN_REFS: u32 = 48;
 /// cells; every ray tests them all, four at a time where the primitive
 /// can. Below it, entering a grid's box and walking its cells cost more
 /// than the tests they save (measured in the crate README).
-pub const AUTO_DIRECT_MAX: usize = 16;
+pub const AUTO_DIRECT_MAX: usize = 40;
 
 /// The default memory budget, in units of the primitives' own size.
 pub const DEFAULT_BUDGET_FACTOR: usize = 8;

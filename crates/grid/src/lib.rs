@@ -123,8 +123,8 @@ pub use accel::{
     Hit, PrimHit, Primitive,
 };
 pub use config::{
-    AUTO_DIRECT_MAX, CellStorage, GridConfig, GridStats, DEFAULT_BUDGET_FACTOR,
-    HIERARCHY_MIN_REFS, MIN_BUDGET,
+    CellStorage, GridConfig, GridStats, AUTO_DIRECT_MAX, DEFAULT_BUDGET_FACTOR, HIERARCHY_MIN_REFS,
+    MIN_BUDGET,
 };
 pub use counters::{Counters, NoCounters, QueryCounters};
 pub use dda::{CellIter, CellVisit};
