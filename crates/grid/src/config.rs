@@ -141,10 +141,14 @@ pub const MIN_BUDGET: usize = 4 << 20;
 impl GridConfig {
     /// Whether a grid over `n` primitives built with this configuration
     /// tests them all directly ([`AUTO_DIRECT_MAX`]): `auto`, with neither
-    /// nesting nor the cells per axis set.
+    /// nesting, the cells per axis nor the mailbox set.
     #[must_use]
     pub fn direct(&self, n: usize) -> bool {
-        self.auto && self.nest_min_refs == 0 && self.dims.is_none() && n <= AUTO_DIRECT_MAX
+        self.auto
+            && self.nest_min_refs == 0
+            && self.dims.is_none()
+            && !self.mailbox
+            && n <= AUTO_DIRECT_MAX
     }
 
     /// The memory budget for `n` primitives of `prim_size` bytes each

@@ -259,10 +259,8 @@ impl<P: Primitive> Grid<P> {
         };
         let nested = Nested::build(&grid.prims, &grid.geom, &grid.refs, crowded, &params);
         grid.nested = nested;
-        grid.direct = config.direct(n)
-            && grid.geom.cell_count() == 1
-            && grid.nested.subs.is_empty()
-            && !config.mailbox;
+        grid.direct =
+            config.direct(n) && grid.geom.cell_count() == 1 && grid.nested.subs.is_empty();
         let build_time = start.elapsed();
         let cells = grid.geom.cell_count();
         let table_bytes = match &grid.cells {
