@@ -740,6 +740,8 @@ impl Job<'_> {
         // the batched loop and draw nothing.
         let lens = self.camera.has_lens();
         let samples = PixelSamples::new(self.sampler, self.spp);
+        // The stream of the unsampled loops (one sample at the pixel centre).
+        let one_sample = PixelSamples::new(self.sampler, 1);
         for &y in &self.rows[tile.k0..tile.k1] {
             debug_assert!(y < self.height);
             let r = self.height - 1 - y;
@@ -778,7 +780,6 @@ impl Job<'_> {
                     hits += u64::from(hit);
                 }
             } else if I::BATCH {
-                let one_sample = PixelSamples::new(self.sampler, 1);
                 // One row of the tile in three passes: trace every camera
                 // ray, gather the hits' shading data, shade. Gathering in a
                 // tight loop lets the cache misses on per-primitive data
@@ -802,7 +803,6 @@ impl Job<'_> {
                     hits += u64::from(li.hit);
                 }
             } else {
-                let one_sample = PixelSamples::new(self.sampler, 1);
                 let mut stream = one_sample.stream(0);
                 for x in tile.x0..tile.x1 {
                     let ray = self.camera.ray(x, r, 0.5, 0.5);
