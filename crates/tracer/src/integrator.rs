@@ -590,38 +590,37 @@ where
         }
     }
 
+    /// The shading of a primitive's hit `h`, on mesh triangle `tri` if it is one.
+    #[inline(always)]
+    fn prim_shading(&self, ray: &Ray, h: &Hit, tri: Option<&MeshTriangle<'_>>) -> Shading {
+        let i = h.prim as usize;
+        // The accelerator's own storage (a grid's cell order) holds
+        // the primitive in `slot`; the per-primitive tables go by
+        // primitive index.
+        let sp = self.accel.primitives()[h.slot as usize].surface(ray, &h.prim_hit());
+        let mut ns = sp.n;
+        // Keep the shading normal on the geometric front side.
+        if let Some(n) = tri.and_then(|t| Self::vertex_normal(t, h.u, h.v)?.try_normalize()) {
+            ns = if n.dot(sp.n) < 0.0 { -n } else { n };
+        }
+        Shading {
+            t: h.t,
+            sp,
+            material: self.data.prim_material.get(i),
+            ns,
+            albedo: tri
+                .and_then(|t| Self::vertex_color(t, h.u, h.v))
+                .or_else(|| self.data.prim_albedo.get(i).copied()),
+            emission: Rgb::ZERO,
+            metal_rough: None,
+        }
+    }
+
     /// [`Tracer::shading`] before textures.
     #[inline]
     fn untextured(&self, ray: &Ray, found: Found) -> Shading {
         match found {
-            Found::Prim(h) => {
-                let i = h.prim as usize;
-                // The accelerator's own storage (a grid's cell order) holds
-                // the primitive in `slot`; the per-primitive tables go by
-                // primitive index.
-                let sp = self.accel.primitives()[h.slot as usize].surface(ray, &h.prim_hit());
-                let tri = self.mesh_triangle(&h);
-                let mut ns = sp.n;
-                // Keep the shading normal on the geometric front side.
-                if let Some(n) = tri
-                    .as_ref()
-                    .and_then(|t| Self::vertex_normal(t, h.u, h.v)?.try_normalize())
-                {
-                    ns = if n.dot(sp.n) < 0.0 { -n } else { n };
-                }
-                Shading {
-                    t: h.t,
-                    sp,
-                    material: self.data.prim_material.get(i),
-                    ns,
-                    albedo: tri
-                        .as_ref()
-                        .and_then(|t| Self::vertex_color(t, h.u, h.v))
-                        .or_else(|| self.data.prim_albedo.get(i).copied()),
-                    emission: Rgb::ZERO,
-                    metal_rough: None,
-                }
-            }
+            Found::Prim(h) => self.prim_shading(ray, &h, self.mesh_triangle(&h).as_ref()),
             Found::Plane { index, t } => {
                 let sp = self.data.planes[index as usize].surface(ray, t);
                 Shading {
@@ -657,7 +656,16 @@ where
     /// forwarding on every hit).
     #[inline(never)]
     fn textured(&self, ray: &Ray, found: Found) -> Shading {
-        let sh = self.untextured(ray, found);
+        let (sh, tri) = match found {
+            Found::Prim(h) => {
+                let tri = self.mesh_triangle(&h);
+                (
+                    self.prim_shading(ray, &h, tri.as_ref()),
+                    tri.map(|t| (t, h)),
+                )
+            }
+            _ => (self.untextured(ray, found), None),
+        };
         // Area lights' own surfaces are never textured.
         let maps = match found {
             Found::Area { .. } => None,
@@ -666,12 +674,7 @@ where
         let Some(maps) = maps else {
             return sh;
         };
-        let uv = match found {
-            Found::Prim(h) => self
-                .mesh_triangle(&h)
-                .and_then(|t| Self::uv_at(&t, h.u, h.v)),
-            _ => None,
-        };
+        let uv = tri.and_then(|(t, h)| Self::uv_at(&t, h.u, h.v));
         self.apply_textures(ray, sh, maps, uv)
     }
 
