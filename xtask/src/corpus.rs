@@ -58,7 +58,7 @@ impl Prims {
         let b = gridrt_bbox::Aabb::EMPTY;
         match self {
             Prims::Tris(t) => t.iter().flatten().fold(b, |b, p| b.grow(*p)),
-            Prims::Spheres(s) => s.iter().fold(b, |b, s| b.union(s.bounds())),
+            Prims::Spheres(s) => s.iter().fold(b, |b, s| b.union(s.bounds(&()))),
         }
     }
 }

@@ -148,7 +148,7 @@ fn hits<A: Accelerator>(a: &A, rays: &[Query]) -> u64 {
 }
 
 /// Builds one column's accelerator `runs` times (best time kept).
-fn build<P: Primitive + Clone + Send>(
+fn build<P: Primitive<Shared = ()> + Clone + Send>(
     prims: &[P],
     name: &str,
     runs: u32,
@@ -328,7 +328,7 @@ fn measure_scene(
     Ok(rows)
 }
 
-fn measure_prims<P: Primitive + Clone + Send>(
+fn measure_prims<P: Primitive<Shared = ()> + Clone + Send>(
     prims: &[P],
     scene: &CorpusScene,
     args: &Args,

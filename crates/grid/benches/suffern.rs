@@ -112,7 +112,7 @@ struct Row {
     dims: [u32; 3],
 }
 
-fn measure<P: Primitive + Clone + Send>(
+fn measure<P: Primitive<Shared = ()> + Clone + Send>(
     prims: &[P],
     rays: &[Ray],
     config: &GridConfig,
@@ -371,7 +371,7 @@ fn main() {
         // Experiment: the same spheres, stored in Morton order of their centres.
         for &n in &ns() {
             let s0 = scenes::suffern_spheres(n);
-            let s: Vec<prims::Sphere> = gridrt_grid::spatial_order(&s0)
+            let s: Vec<prims::Sphere> = gridrt_grid::spatial_order(&s0, &())
                 .into_iter()
                 .map(|i| s0[i as usize])
                 .collect();
@@ -587,7 +587,7 @@ fn load_bunny() -> Option<Vec<Triangle>> {
 fn bunny_rays(tris: &[Triangle]) -> Vec<Ray> {
     let b = tris
         .iter()
-        .fold(gridrt_grid::Aabb::EMPTY, |b, t| b.union(t.bounds()));
+        .fold(gridrt_grid::Aabb::EMPTY, |b, t| b.union(t.bounds(&())));
     let c = b.centroid();
     let e = b.extent().max_element();
     let eye = c + gridrt_grid::Vec3::new(0.0, 0.0, 3.0 * e);

@@ -118,6 +118,12 @@ impl Hit {
 /// beyond the scene compared with that margin may see a tie resolved
 /// differently near a cell plane).
 pub trait Primitive: Sync {
+    /// What all the primitives of one accelerator refer to, stored once by
+    /// the accelerator and handed to every method: a mesh's vertex array
+    /// for triangles given by vertex indices; `()` for primitives that hold
+    /// all they need.
+    type Shared: Sync + std::fmt::Debug;
+
     /// What the ray tests compute from the ray alone, once per query
     /// (`()` when nothing).
     type RayData;
@@ -126,12 +132,13 @@ pub trait Primitive: Sync {
     fn ray_data(ray: &Ray) -> Self::RayData;
 
     /// A box that holds the whole primitive.
-    fn bounds(&self) -> Aabb;
+    fn bounds(&self, shared: &Self::Shared) -> Aabb;
 
     /// The nearest hit with `t` in `[t_min, t_max]`, if any; `data` is
     /// `Self::ray_data(ray)`.
     fn closest_hit(
         &self,
+        shared: &Self::Shared,
         ray: &Ray,
         data: &Self::RayData,
         t_min: Real,
@@ -140,8 +147,15 @@ pub trait Primitive: Sync {
 
     /// Whether there is any hit with `t` in `[t_min, t_max]` (shadow rays).
     #[inline]
-    fn any_hit(&self, ray: &Ray, data: &Self::RayData, t_min: Real, t_max: Real) -> bool {
-        self.closest_hit(ray, data, t_min, t_max).is_some()
+    fn any_hit(
+        &self,
+        shared: &Self::Shared,
+        ray: &Ray,
+        data: &Self::RayData,
+        t_min: Real,
+        t_max: Real,
+    ) -> bool {
+        self.closest_hit(shared, ray, data, t_min, t_max).is_some()
     }
 
     /// Whether the primitive may touch the closed box `cell`. The default is
@@ -150,8 +164,8 @@ pub trait Primitive: Sync {
     /// insertion keeps fewer "might be in the cell" references. It must never
     /// answer `false` for a box that the primitive touches.
     #[inline]
-    fn overlaps_box(&self, cell: &Aabb) -> bool {
-        self.bounds().overlaps(cell)
+    fn overlaps_box(&self, shared: &Self::Shared, cell: &Aabb) -> bool {
+        self.bounds(shared).overlaps(cell)
     }
 
     /// Tests `prims[r]` for each `r` of `refs`, in order, and calls
@@ -164,8 +178,10 @@ pub trait Primitive: Sync {
     /// limit that `keep` has lowered in between (the caller discards them);
     /// otherwise it must report exactly the hits of the default.
     #[inline]
+    #[allow(clippy::too_many_arguments)] // the primitives, what they share, the references, the query
     fn closest_hits(
         prims: &[Self],
+        shared: &Self::Shared,
         refs: &[u32],
         ray: &Ray,
         data: &Self::RayData,
@@ -175,7 +191,7 @@ pub trait Primitive: Sync {
     ) where
         Self: Sized,
     {
-        closest_hits_each(prims, refs, ray, data, t_min, t_max, keep);
+        closest_hits_each(prims, shared, refs, ray, data, t_min, t_max, keep);
     }
 
     /// Whether any of `prims[r]`, `r` in `refs`, is hit with `t` in
@@ -187,6 +203,7 @@ pub trait Primitive: Sync {
     #[inline]
     fn any_hits(
         prims: &[Self],
+        shared: &Self::Shared,
         refs: &[u32],
         ray: &Ray,
         data: &Self::RayData,
@@ -196,15 +213,17 @@ pub trait Primitive: Sync {
     where
         Self: Sized,
     {
-        any_hits_each(prims, refs, ray, data, t_min, t_max)
+        any_hits_each(prims, shared, refs, ray, data, t_min, t_max)
     }
 }
 
 /// The default [`Primitive::closest_hits`]: [`Primitive::closest_hit`] one
 /// primitive at a time, for overrides that batch only some cells.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)] // those of `Primitive::closest_hits`
 pub fn closest_hits_each<P: Primitive>(
     prims: &[P],
+    shared: &P::Shared,
     refs: &[u32],
     ray: &Ray,
     data: &P::RayData,
@@ -213,7 +232,7 @@ pub fn closest_hits_each<P: Primitive>(
     keep: &mut impl FnMut(u32, PrimHit) -> Real,
 ) {
     for &r in refs {
-        if let Some(h) = prims[r as usize].closest_hit(ray, data, t_min, t_max) {
+        if let Some(h) = prims[r as usize].closest_hit(shared, ray, data, t_min, t_max) {
             t_max = keep(r, h);
         }
     }
@@ -224,6 +243,7 @@ pub fn closest_hits_each<P: Primitive>(
 #[inline(always)]
 pub fn any_hits_each<P: Primitive>(
     prims: &[P],
+    shared: &P::Shared,
     refs: &[u32],
     ray: &Ray,
     data: &P::RayData,
@@ -231,7 +251,7 @@ pub fn any_hits_each<P: Primitive>(
     t_max: Real,
 ) -> bool {
     refs.iter()
-        .any(|&r| prims[r as usize].any_hit(ray, data, t_min, t_max))
+        .any(|&r| prims[r as usize].any_hit(shared, ray, data, t_min, t_max))
 }
 
 /// A [`Primitive::closest_hits`] for primitives with a cheap test of four
@@ -250,20 +270,22 @@ pub fn any_hits_each<P: Primitive>(
 /// struct Slab(Real, Real);
 ///
 /// impl Primitive for Slab {
+///     type Shared = ();
 ///     /// Whether the ray moves along x, decided once per query.
 ///     type RayData = bool;
 ///     fn ray_data(ray: &Ray) -> bool {
 ///         ray.dir.x != 0.0
 ///     }
-///     fn bounds(&self) -> Aabb {
+///     fn bounds(&self, _: &()) -> Aabb {
 ///         Aabb::new(Vec3::new(self.0, -1.0, -1.0), Vec3::new(self.1, 1.0, 1.0))
 ///     }
-///     fn closest_hit(&self, ray: &Ray, _: &bool, t0: Real, t1: Real) -> Option<PrimHit> {
+///     fn closest_hit(&self, _: &(), ray: &Ray, _: &bool, t0: Real, t1: Real) -> Option<PrimHit> {
 ///         let t = (self.0 - ray.origin.x) / ray.dir.x;
 ///         (t >= t0 && t <= t1).then_some(PrimHit::new(t, 0.0, 0.0))
 ///     }
 ///     fn closest_hits(
 ///         prims: &[Self],
+///         shared: &(),
 ///         refs: &[u32],
 ///         ray: &Ray,
 ///         moving: &bool,
@@ -273,7 +295,7 @@ pub fn any_hits_each<P: Primitive>(
 ///     ) {
 ///         // A ray that does not move along x misses all four at once.
 ///         let mask = if *moving { 0b1111 } else { 0 };
-///         closest_hits_prefiltered(prims, refs, ray, moving, t_min, t_max, keep, |_| mask);
+///         closest_hits_prefiltered(prims, shared, refs, ray, moving, t_min, t_max, keep, |_| mask);
 ///     }
 /// }
 ///
@@ -281,7 +303,7 @@ pub fn any_hits_each<P: Primitive>(
 /// let mut hits = Vec::new();
 /// let ray = Ray::new(Vec3::ZERO, Vec3::X);
 /// let data = Slab::ray_data(&ray); // once per query
-/// Slab::closest_hits(&slabs, &[0, 1], &ray, &data, 0.0, 10.0, &mut |r, h| {
+/// Slab::closest_hits(&slabs, &(), &[0, 1], &ray, &data, 0.0, 10.0, &mut |r, h| {
 ///     hits.push((r, h.t));
 ///     h.t
 /// });
@@ -291,6 +313,7 @@ pub fn any_hits_each<P: Primitive>(
 #[allow(clippy::too_many_arguments)] // those of `Primitive::closest_hits`, and `may_hit`
 pub fn closest_hits_prefiltered<P: Primitive>(
     prims: &[P],
+    shared: &P::Shared,
     refs: &[u32],
     ray: &Ray,
     data: &P::RayData,
@@ -306,7 +329,7 @@ pub fn closest_hits_prefiltered<P: Primitive>(
         while pass != 0 {
             let k = pass.trailing_zeros() as usize;
             pass &= pass - 1;
-            if let Some(h) = four[k].closest_hit(ray, data, t_min, t_max) {
+            if let Some(h) = four[k].closest_hit(shared, ray, data, t_min, t_max) {
                 t_max = keep(chunk[k], h);
             }
         }
@@ -318,8 +341,10 @@ pub fn closest_hits_prefiltered<P: Primitive>(
 /// [`Primitive::any_hit`] for the primitives it lets through, until one is
 /// hit.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)] // those of `Primitive::any_hits`, and `may_hit`
 pub fn any_hits_prefiltered<P: Primitive>(
     prims: &[P],
+    shared: &P::Shared,
     refs: &[u32],
     ray: &Ray,
     data: &P::RayData,
@@ -334,7 +359,7 @@ pub fn any_hits_prefiltered<P: Primitive>(
         while pass != 0 {
             let k = pass.trailing_zeros() as usize;
             pass &= pass - 1;
-            if four[k].any_hit(ray, data, t_min, t_max) {
+            if four[k].any_hit(shared, ray, data, t_min, t_max) {
                 return true;
             }
         }
@@ -362,6 +387,9 @@ pub trait Accelerator: Sync {
     /// indexes it): the given order for the exhaustive accelerator, cell
     /// order for a grid.
     fn primitives(&self) -> &[Self::Prim];
+
+    /// What the primitives share ([`Primitive::Shared`]).
+    fn shared(&self) -> &<Self::Prim as Primitive>::Shared;
 
     /// The primitive index (the given order) of the primitive in `slot`.
     fn primitive_id(&self, slot: u32) -> u32;

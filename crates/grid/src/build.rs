@@ -61,7 +61,12 @@ impl Built {
 
 /// Builds the cell structure for `prims`; the references hold slots (see
 /// [`Built::ids`]).
-pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig, budget: usize) -> Built {
+pub(crate) fn build<P: Primitive>(
+    prims: &[P],
+    shared: &P::Shared,
+    config: &GridConfig,
+    budget: usize,
+) -> Built {
     let parallel = config.parallel_build;
     let n = prims.len();
     // Phase 1: the union of the finite boxes, and the primitives that cannot be gridded.
@@ -76,7 +81,7 @@ pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig, budget: usiz
         let mut count = 0usize;
         for (i, p) in (s..).zip(&prims[s..e]) {
             crate::mem::prefetch_at(prims, i, false);
-            if let Some((min, max)) = gridded(&p.bounds()) {
+            if let Some((min, max)) = gridded(&p.bounds(shared)) {
                 lo = lo.min(min);
                 hi = hi.max(max);
                 count += 1;
@@ -86,7 +91,7 @@ pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig, budget: usiz
             Vec::new()
         } else {
             (s as u32..e as u32)
-                .filter(|&i| !is_gridded(&prims[i as usize].bounds()))
+                .filter(|&i| !is_gridded(&prims[i as usize].bounds(shared)))
                 .collect()
         };
         let b = if count == 0 {
@@ -143,7 +148,7 @@ pub(crate) fn build<P: Primitive>(prims: &[P], config: &GridConfig, budget: usiz
     loop {
         let mut g = Geom::new(bounds, dims);
         g.slab = config.slab;
-        match build_cells(prims, &g, config, ref_limit, unbounded.is_empty()) {
+        match build_cells(prims, shared, &g, config, ref_limit, unbounded.is_empty()) {
             Some(((cells, refs, spread, occupied, max_refs), ids)) => {
                 return Built {
                     geom: g,
@@ -229,13 +234,14 @@ impl Pair for Wide {
 /// box is known to be finite.
 fn build_cells<P: Primitive>(
     prims: &[P],
+    shared: &P::Shared,
     g: &Geom,
     config: &GridConfig,
     ref_limit: u64,
     all_gridded: bool,
 ) -> Option<(CellsOut, Box<[u32]>)> {
     if config.storage == CellStorage::Dense {
-        return crate::dense_build::build_dense(prims, g, config, ref_limit, all_gridded);
+        return crate::dense_build::build_dense(prims, shared, g, config, ref_limit, all_gridded);
     }
     let spread: [Box<[u64]>; 3] = std::array::from_fn(|a| {
         (0..g.dims[a])
@@ -247,9 +253,27 @@ fn build_cells<P: Primitive>(
         | spread[2][g.dims[2] as usize - 1];
     let key_bits = 64 - max_key.leading_zeros();
     let mut out = if key_bits <= 32 {
-        build_pairs::<P, u64>(prims, g, config, ref_limit, spread, key_bits, all_gridded)
+        build_pairs::<P, u64>(
+            prims,
+            shared,
+            g,
+            config,
+            ref_limit,
+            spread,
+            key_bits,
+            all_gridded,
+        )
     } else {
-        build_pairs::<P, Wide>(prims, g, config, ref_limit, spread, key_bits, all_gridded)
+        build_pairs::<P, Wide>(
+            prims,
+            shared,
+            g,
+            config,
+            ref_limit,
+            spread,
+            key_bits,
+            all_gridded,
+        )
     }?;
     let ids = first_seen(&mut out.1, prims.len());
     Some((out, ids))
@@ -257,8 +281,10 @@ fn build_cells<P: Primitive>(
 
 /// The hashed table's build: `(Morton code, primitive)` pairs, sorted.
 /// `all_gridded` as for [`crate::dense_build::build_dense`].
+#[allow(clippy::too_many_arguments)] // the primitives, what they share, the geometry and the build's switches
 fn build_pairs<P: Primitive, T: Pair>(
     prims: &[P],
+    shared: &P::Shared,
     g: &Geom,
     config: &GridConfig,
     ref_limit: u64,
@@ -280,7 +306,7 @@ fn build_pairs<P: Primitive, T: Pair>(
         let mut out: Vec<T> = Vec::with_capacity((e - s) * 4);
         let mut since_check = 0usize;
         for (p, prim) in (s as u32..).zip(&prims[s..e]) {
-            let b = prim.bounds();
+            let b = prim.bounds(shared);
             if !all_gridded && !is_gridded(&b) {
                 continue;
             }
@@ -292,7 +318,7 @@ fn build_pairs<P: Primitive, T: Pair>(
                     for i in lo[0]..=hi[0] {
                         if config.exact_insertion
                             && !single
-                            && !prim.overlaps_box(&g.padded_cell_box([i, j, k]))
+                            && !prim.overlaps_box(shared, &g.padded_cell_box([i, j, k]))
                         {
                             continue;
                         }

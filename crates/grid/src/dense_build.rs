@@ -57,6 +57,7 @@ fn record(prim: u32, code: u64, base: usize) -> Record {
 /// pass saw no other), so the ranges pass need not check again.
 pub(crate) fn build_dense<P: Primitive>(
     prims: &[P],
+    shared: &P::Shared,
     g: &Geom,
     config: &GridConfig,
     ref_limit: u64,
@@ -94,7 +95,7 @@ pub(crate) fn build_dense<P: Primitive>(
         let mut hist = vec![0u32; if sorted { 1 << (cell_bits - shift) } else { 0 }];
         for (prim, p) in (s as u32..).zip(&prims[s..e]) {
             crate::mem::prefetch_at(prims, prim as usize, false);
-            let b = p.bounds();
+            let b = p.bounds(shared);
             if !all_gridded && !is_gridded(&b) {
                 continue;
             }
@@ -173,19 +174,28 @@ pub(crate) fn build_dense<P: Primitive>(
         let slab_totals: Vec<(u64, u32, u64)> =
             map_slabs(slab_counts, parallel, |(slab, counts)| {
                 let lo = slab.z0 * nxy;
-                for_each_ref(prims, g, ranges, slab, exact, false, |v, _, _| match v {
-                    Visit::Cell(c) => counts[c - lo] += 1,
-                    Visit::Block(at, code) => {
-                        // All eight corners, each adding 0 or 1: no branch
-                        // on the range's shape, which no predictor guesses.
-                        let mask = IN_RANGE[code];
-                        let w = &mut counts[at - lo..=at - lo + span];
-                        for (i, &o) in corners.iter().enumerate() {
-                            // SAFETY: `o <= span` (the last corner is the farthest).
-                            unsafe { *w.get_unchecked_mut(o) += (mask >> i) & 1 };
+                for_each_ref(
+                    prims,
+                    shared,
+                    g,
+                    ranges,
+                    slab,
+                    exact,
+                    false,
+                    |v, _, _| match v {
+                        Visit::Cell(c) => counts[c - lo] += 1,
+                        Visit::Block(at, code) => {
+                            // All eight corners, each adding 0 or 1: no branch
+                            // on the range's shape, which no predictor guesses.
+                            let mask = IN_RANGE[code];
+                            let w = &mut counts[at - lo..=at - lo + span];
+                            for (i, &o) in corners.iter().enumerate() {
+                                // SAFETY: `o <= span` (the last corner is the farthest).
+                                unsafe { *w.get_unchecked_mut(o) += (mask >> i) & 1 };
+                            }
                         }
-                    }
-                });
+                    },
+                );
                 // Local inclusive scan, with the slab's occupancy and largest cell.
                 let mut acc = 0u32;
                 let mut occupied = 0u64;
@@ -256,24 +266,33 @@ pub(crate) fn build_dense<P: Primitive>(
         });
         map_slabs(work, parallel, |(slab, offs, out, base)| {
             let lo = slab.z0 * nxy;
-            for_each_ref(prims, g, ranges, slab, exact, true, |visit, _, v| {
-                match visit {
-                    Visit::Cell(c) => {
-                        let o = &mut offs[c - lo];
-                        *o -= 1;
-                        out[*o as usize - base] = v;
-                    }
-                    Visit::Block(at, code) => {
-                        // The range's corners only: here the branches on
-                        // its shape cost less than writing all eight.
-                        let w = &mut offs[at - lo..=at - lo + span];
-                        for &o in &shapes[code][..1 << code.count_ones()] {
-                            w[o] -= 1;
-                            out[w[o] as usize - base] = v;
+            for_each_ref(
+                prims,
+                shared,
+                g,
+                ranges,
+                slab,
+                exact,
+                true,
+                |visit, _, v| {
+                    match visit {
+                        Visit::Cell(c) => {
+                            let o = &mut offs[c - lo];
+                            *o -= 1;
+                            out[*o as usize - base] = v;
+                        }
+                        Visit::Block(at, code) => {
+                            // The range's corners only: here the branches on
+                            // its shape cost less than writing all eight.
+                            let w = &mut offs[at - lo..=at - lo + span];
+                            for &o in &shapes[code][..1 << code.count_ones()] {
+                                w[o] -= 1;
+                                out[w[o] as usize - base] = v;
+                            }
                         }
                     }
-                }
-            });
+                },
+            );
         });
     }
     let ids =
@@ -479,8 +498,10 @@ fn map_slabs<W: Send, R: Send>(
 /// whose block lies wholly in the slab, else with [`Visit::Cell`] for
 /// every cell of its range in the slab.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)] // the primitives, what they share, the geometry and the build's switches
 fn for_each_ref<P: Primitive, F: FnMut(Visit, u32, u32)>(
     prims: &[P],
+    shared: &P::Shared,
     g: &Geom,
     ranges: &[Record],
     slab: &Slab,
@@ -503,7 +524,7 @@ fn for_each_ref<P: Primitive, F: FnMut(Visit, u32, u32)>(
     let span = corners[7];
     // A record through the general case, out of line.
     let far = |slot: usize, prim: u32, f: &mut F| {
-        general(prims, g, exact, z0, z1, prim, &mut |c| {
+        general(prims, shared, g, exact, z0, z1, prim, &mut |c| {
             f(Visit::Cell(c), prim, slot as u32)
         });
     };
@@ -587,8 +608,10 @@ fn corners(g: &Geom) -> [usize; 8] {
 /// out of line so that the common case's loop keeps its state in registers:
 /// calls `f` with every cell of primitive `prim` in the z-layers `z0..z1`.
 #[inline(never)]
+#[allow(clippy::too_many_arguments)] // the primitives, what they share, the geometry and the build's switches
 fn general<P: Primitive>(
     prims: &[P],
+    shared: &P::Shared,
     g: &Geom,
     exact: bool,
     z0: usize,
@@ -599,7 +622,7 @@ fn general<P: Primitive>(
     let [nx, ny, _] = g.dims.map(|d| d as usize);
     let nxy = nx * ny;
     let p = &prims[prim as usize];
-    let (lo, hi) = g.cell_range(&p.bounds());
+    let (lo, hi) = g.cell_range(&p.bounds(shared));
     let single = lo == hi;
     let k0 = (lo[2] as usize).max(z0);
     let k1 = (hi[2] as usize + 1).min(z1);
@@ -608,7 +631,7 @@ fn general<P: Primitive>(
             for i in lo[0] as usize..hi[0] as usize + 1 {
                 if exact
                     && !single
-                    && !p.overlaps_box(&g.padded_cell_box([i as u32, j as u32, k as u32]))
+                    && !p.overlaps_box(shared, &g.padded_cell_box([i as u32, j as u32, k as u32]))
                 {
                     continue;
                 }

@@ -13,12 +13,13 @@ use gridrt_bbox::{Ray, Real};
 /// /// A sphere at `c` with radius `r` (just enough for the example).
 /// struct Ball(Vec3, Real);
 /// impl Primitive for Ball {
+///     type Shared = ();
 ///     type RayData = ();
 ///     fn ray_data(_: &Ray) {}
-///     fn bounds(&self) -> Aabb {
+///     fn bounds(&self, _: &()) -> Aabb {
 ///         Aabb::new(self.0 - Vec3::splat(self.1), self.0 + Vec3::splat(self.1))
 ///     }
-///     fn closest_hit(&self, ray: &Ray, _: &(), t0: Real, t1: Real) -> Option<PrimHit> {
+///     fn closest_hit(&self, _: &(), ray: &Ray, _: &(), t0: Real, t1: Real) -> Option<PrimHit> {
 ///         let oc = ray.origin - self.0;
 ///         let (a, b, c) = (ray.dir.dot(ray.dir), oc.dot(ray.dir), oc.dot(oc) - self.1 * self.1);
 ///         let disc = b * b - a * c;
@@ -33,8 +34,9 @@ use gridrt_bbox::{Ray, Real};
 /// assert_eq!((hit.prim, hit.t), (1, 2.0));
 /// ```
 #[derive(Clone, Debug)]
-pub struct Exhaustive<P> {
+pub struct Exhaustive<P: Primitive> {
     prims: Vec<P>,
+    shared: P::Shared,
 }
 
 /// Primitives per call of [`Primitive::closest_hits`].
@@ -54,8 +56,17 @@ static IOTA: [u32; BLOCK] = {
 impl<P: Primitive> Exhaustive<P> {
     /// Wraps the primitives; nothing is built.
     #[must_use]
-    pub fn new(prims: Vec<P>) -> Self {
-        Self { prims }
+    pub fn new(prims: Vec<P>) -> Self
+    where
+        P::Shared: Default,
+    {
+        Self::with_shared(prims, P::Shared::default())
+    }
+
+    /// Wraps the primitives and what they share ([`Primitive::Shared`]).
+    #[must_use]
+    pub fn with_shared(prims: Vec<P>, shared: P::Shared) -> Self {
+        Self { prims, shared }
     }
 
     /// Gives the primitives back.
@@ -90,6 +101,7 @@ impl<P: Primitive> Exhaustive<P> {
             let limit = t_far;
             P::closest_hits(
                 block,
+                &self.shared,
                 &IOTA[..block.len()],
                 ray,
                 &data,
@@ -125,7 +137,15 @@ impl<P: Primitive> Exhaustive<P> {
         let data = P::ray_data(ray);
         self.prims.chunks(BLOCK).any(|block| {
             counters.tests(block.len());
-            P::any_hits(block, &IOTA[..block.len()], ray, &data, t_min, t_max)
+            P::any_hits(
+                block,
+                &self.shared,
+                &IOTA[..block.len()],
+                ray,
+                &data,
+                t_min,
+                t_max,
+            )
         })
     }
 }
@@ -138,6 +158,10 @@ impl<P: Primitive> Accelerator for Exhaustive<P> {
 
     fn primitives(&self) -> &[P] {
         &self.prims
+    }
+
+    fn shared(&self) -> &P::Shared {
+        &self.shared
     }
 
     fn primitive_id(&self, slot: u32) -> u32 {

@@ -51,11 +51,13 @@ pub(crate) const EXIT_MARGIN: Real = 8.0 * Real::EPSILON;
 /// The grid is immutable after [`Grid::build`] and `Sync`; per-query working
 /// memory (the mailbox) is the caller's [`GridScratch`].
 #[derive(Clone, Debug)]
-pub struct Grid<P> {
+pub struct Grid<P: Primitive> {
     /// The primitives in slot order: the gridded ones in the order in
     /// which the cells, in storage order, first reference them, then the
     /// unbounded ones.
     prims: Vec<P>,
+    /// What the primitives share ([`Primitive::Shared`]).
+    shared: P::Shared,
     config: GridConfig,
     geom: Geom,
     cells: Cells,
@@ -168,10 +170,25 @@ impl<P: Primitive> Grid<P> {
     pub fn build(prims: Vec<P>, config: &GridConfig) -> Self
     where
         P: Send,
+        P::Shared: Default,
     {
-        let (start, budget, b) = Self::index(&prims, config);
+        Self::build_shared(prims, P::Shared::default(), config)
+    }
+
+    /// [`Grid::build`] over primitives that refer to `shared` (a mesh's
+    /// vertices; [`Primitive::Shared`]), which the grid keeps beside them.
+    ///
+    /// # Panics
+    ///
+    /// As [`Grid::build`].
+    #[must_use]
+    pub fn build_shared(prims: Vec<P>, shared: P::Shared, config: &GridConfig) -> Self
+    where
+        P: Send,
+    {
+        let (start, budget, b) = Self::index(&prims, &shared, config);
         let parallel = config.parallel_build;
-        Self::assemble(start, budget, b, prims.len(), config, |ids| {
+        Self::assemble(start, budget, b, prims.len(), shared, config, |ids| {
             reorder(prims, ids, parallel)
         })
     }
@@ -187,10 +204,12 @@ impl<P: Primitive> Grid<P> {
     pub fn build_from_slice(prims: &[P], config: &GridConfig) -> Self
     where
         P: Clone + Send,
+        P::Shared: Default,
     {
-        let (start, budget, b) = Self::index(prims, config);
+        let shared = P::Shared::default();
+        let (start, budget, b) = Self::index(prims, &shared, config);
         let parallel = config.parallel_build;
-        Self::assemble(start, budget, b, prims.len(), config, |ids| {
+        Self::assemble(start, budget, b, prims.len(), shared, config, |ids| {
             crate::par::map_range(ids.len(), parallel, |s| {
                 // The reads jump around: ask for a primitive some slots ahead.
                 if let Some(&p) = ids.get(s + 32) {
@@ -203,7 +222,11 @@ impl<P: Primitive> Grid<P> {
 
     /// The cells and references over `prims`, with the build's start and
     /// memory budget.
-    fn index(prims: &[P], config: &GridConfig) -> (Instant, usize, build::Built) {
+    fn index(
+        prims: &[P],
+        shared: &P::Shared,
+        config: &GridConfig,
+    ) -> (Instant, usize, build::Built) {
         assert!(
             u32::try_from(prims.len()).is_ok(),
             "at most u32::MAX primitives"
@@ -213,7 +236,7 @@ impl<P: Primitive> Grid<P> {
         let budget = config
             .budget_for(n, std::mem::size_of::<P>())
             .max(Self::min_budget(n));
-        (start, budget, build::build(prims, config, budget))
+        (start, budget, build::build(prims, shared, config, budget))
     }
 
     /// The grid from its index `b` over `n` primitives; `order` gives the
@@ -223,6 +246,7 @@ impl<P: Primitive> Grid<P> {
         budget: usize,
         b: build::Built,
         n: usize,
+        shared: P::Shared,
         config: &GridConfig,
         order: impl FnOnce(&[u32]) -> Vec<P>,
     ) -> Self {
@@ -230,6 +254,7 @@ impl<P: Primitive> Grid<P> {
         let prims = order(&ids);
         let mut grid = Self {
             prims,
+            shared,
             config: *config,
             geom: b.geom,
             cells: b.cells,
@@ -257,7 +282,14 @@ impl<P: Primitive> Grid<P> {
             slab: config.slab,
             cost,
         };
-        let nested = Nested::build(&grid.prims, &grid.geom, &grid.refs, crowded, &params);
+        let nested = Nested::build(
+            &grid.prims,
+            &grid.shared,
+            &grid.geom,
+            &grid.refs,
+            crowded,
+            &params,
+        );
         grid.nested = nested;
         grid.direct =
             config.direct(n) && grid.geom.cell_count() == 1 && grid.nested.subs.is_empty();
@@ -602,6 +634,7 @@ impl<P: Primitive> Grid<P> {
         let data = P::ray_data(ray);
         let mut q = Closest::<P, C, MB> {
             prims: &self.prims,
+            shared: &self.shared,
             ids: &self.ids,
             refs: &self.refs,
             children: &self.nested.root,
@@ -668,19 +701,36 @@ impl<P: Primitive> Grid<P> {
         }
         let data = P::ray_data(ray);
         counters.tests(self.unbounded.len());
-        if P::any_hits(&self.prims, &self.unbounded, ray, &data, t_min, t_max) {
+        if P::any_hits(
+            &self.prims,
+            &self.shared,
+            &self.unbounded,
+            ray,
+            &data,
+            t_min,
+            t_max,
+        ) {
             return true;
         }
         if direct {
             counters.cell();
             counters.tests(self.refs.len());
-            return P::any_hits(&self.prims, &self.refs, ray, &data, t_min, t_max);
+            return P::any_hits(
+                &self.prims,
+                &self.shared,
+                &self.refs,
+                ray,
+                &data,
+                t_min,
+                t_max,
+            );
         }
         let Some(dda) = dda else {
             return false;
         };
         let mut q = AnyHit::<P, C, MB> {
             prims: &self.prims,
+            shared: &self.shared,
             refs: &self.refs,
             children: &self.nested.root,
             subs: &self.nested.subs,
@@ -725,6 +775,10 @@ impl<P: Primitive> Accelerator for Grid<P> {
         &self.prims
     }
 
+    fn shared(&self) -> &P::Shared {
+        &self.shared
+    }
+
     #[inline]
     fn primitive_id(&self, slot: u32) -> u32 {
         self.ids[slot as usize]
@@ -747,7 +801,7 @@ impl<P: Primitive> Accelerator for Grid<P> {
     }
 }
 
-impl<P> Grid<P> {
+impl<P: Primitive> Grid<P> {
     /// The cell storage in use ([`GridConfig::storage`]).
     #[must_use]
     pub fn storage(&self) -> CellStorage {
@@ -756,128 +810,4 @@ impl<P> Grid<P> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::{Exhaustive, PrimHit};
-    use gridrt_bbox::Vec3;
-
-    /// A ball, just enough for these tests.
-    #[derive(Clone, Debug)]
-    struct Ball(Vec3, Real);
-
-    impl Primitive for Ball {
-        type RayData = ();
-        fn ray_data(_: &Ray) {}
-        fn bounds(&self) -> Aabb {
-            Aabb::new(self.0 - Vec3::splat(self.1), self.0 + Vec3::splat(self.1))
-        }
-        fn closest_hit(&self, ray: &Ray, _: &(), t0: Real, t1: Real) -> Option<PrimHit> {
-            let oc = ray.origin - self.0;
-            let (a, b, c) = (
-                ray.dir.dot(ray.dir),
-                oc.dot(ray.dir),
-                oc.dot(oc) - self.1 * self.1,
-            );
-            let disc = b * b - a * c;
-            if disc < 0.0 {
-                return None;
-            }
-            let s = disc.sqrt();
-            [(-b - s) / a, (-b + s) / a]
-                .into_iter()
-                .find(|t| (t0..=t1).contains(t))
-                .map(|t| PrimHit::new(t, 0.0, 0.0))
-        }
-    }
-
-    fn lcg(s: &mut u64) -> Real {
-        *s = s
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (*s >> 40) as Real / (1u64 << 24) as Real
-    }
-
-    #[test]
-    fn mailbox_ids_wrap_around_safely() {
-        let mut s = GridScratch::default();
-        assert_eq!(s.begin(3), 1);
-        s.stamps[1] = 1;
-        s.ray = u32::MAX;
-        // The id wraps to 0, which would match fresh stamps: all are cleared.
-        s.stamps[2] = u32::MAX;
-        assert_eq!(s.begin(3), 1);
-        assert_eq!(s.stamps, vec![0, 0, 0]);
-        // A scratch sized for other primitives is resized and reset.
-        assert_eq!(s.begin(5), 1);
-        assert_eq!(s.stamps.len(), 5);
-    }
-
-    #[test]
-    fn sparse_scenes_skip_empty_blocks_and_stay_exact() {
-        // Clusters of balls far apart: most blocks of the grid are empty.
-        let mut seed = 1;
-        let mut prims = Vec::new();
-        for c in 0..6 {
-            let centre = Vec3::new(
-                c as Real * 7.0 - 20.0,
-                (c % 3) as Real * 9.0 - 9.0,
-                (c % 2) as Real * 11.0,
-            );
-            for _ in 0..80 {
-                let p = centre + Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed));
-                prims.push(Ball(p, 0.02 + 0.05 * lcg(&mut seed)));
-            }
-        }
-        let e = Exhaustive::new(prims.clone());
-        for storage in [CellStorage::Dense, CellStorage::Hashed] {
-            for mailbox in [false, true] {
-                let g = Grid::build(
-                    prims.clone(),
-                    &GridConfig {
-                        storage,
-                        mailbox,
-                        m: 3.0,
-                        ..GridConfig::default()
-                    },
-                );
-                assert!(g.blocks.useful, "the walk should skip empty blocks here");
-                g.check_invariants().expect("invariants");
-                let mut sc = g.scratch();
-                let mut hits = 0;
-                for i in 0..3000 {
-                    let o = Vec3::new(
-                        lcg(&mut seed) * 60.0 - 30.0,
-                        lcg(&mut seed) * 40.0 - 20.0,
-                        lcg(&mut seed) * 40.0 - 15.0,
-                    );
-                    let target = prims[i % prims.len()].0
-                        + Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 0.2;
-                    let r = Ray::new(o, target - o);
-                    let want = e.closest_hit(&r, 0.0, Real::INFINITY, &mut ());
-                    assert_eq!(g.closest_hit(&r, 0.0, Real::INFINITY, &mut sc), want);
-                    assert_eq!(
-                        g.any_hit(&r, 0.0, 0.9, &mut sc),
-                        e.any_hit(&r, 0.0, 0.9, &mut ())
-                    );
-                    hits += usize::from(want.is_some());
-                }
-                assert!(hits > 1000, "{hits}");
-            }
-        }
-    }
-
-    #[test]
-    fn dense_scenes_walk_every_cell() {
-        let mut seed = 3;
-        let prims: Vec<Ball> = (0..2000)
-            .map(|_| {
-                Ball(
-                    Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)),
-                    0.02,
-                )
-            })
-            .collect();
-        let g = Grid::build(prims, &GridConfig::default());
-        assert!(!g.blocks.useful);
-    }
-}
+mod tests;

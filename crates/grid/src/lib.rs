@@ -23,12 +23,13 @@
 //! struct Ball(Vec3, Real);
 //!
 //! impl Primitive for Ball {
+//!     type Shared = ();
 //!     type RayData = (); // nothing to compute once per ray
 //!     fn ray_data(_: &Ray) {}
-//!     fn bounds(&self) -> Aabb {
+//!     fn bounds(&self, _: &()) -> Aabb {
 //!         Aabb::new(self.0 - Vec3::splat(self.1), self.0 + Vec3::splat(self.1))
 //!     }
-//!     fn closest_hit(&self, ray: &Ray, _: &(), t0: Real, t1: Real) -> Option<PrimHit> {
+//!     fn closest_hit(&self, _: &(), ray: &Ray, _: &(), t0: Real, t1: Real) -> Option<PrimHit> {
 //!         let oc = ray.origin - self.0;
 //!         let (a, b, c) = (ray.dir.dot(ray.dir), oc.dot(ray.dir), oc.dot(oc) - self.1 * self.1);
 //!         let disc = b * b - a * c;

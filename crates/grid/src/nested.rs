@@ -246,6 +246,7 @@ impl Nested {
     /// (those with at least `p.min_refs` references, in any order).
     pub(crate) fn build<P: Primitive>(
         prims: &[P],
+        shared: &P::Shared,
         root: &Geom,
         root_refs: &[u32],
         crowded: Vec<([u32; 3], u32, &[u32])>,
@@ -293,7 +294,7 @@ impl Nested {
                 let plans = map_indices(b1 - b0, p.parallel, |i| {
                     let c = &cands[b0 + i];
                     let (g, refs) = refs_of(c);
-                    plan(prims, g, c.idx, refs, p)
+                    plan(prims, shared, g, c.idx, refs, p)
                 });
                 // Granted in order, so the same grids are built whatever
                 // the threads and the batches.
@@ -402,6 +403,7 @@ impl Nested {
     pub(crate) fn check<P: Primitive>(
         &self,
         prims: &[P],
+        shared: &P::Shared,
         g: &Geom,
         children: &Children,
         cells: Vec<([u32; 3], u32, &[u32])>,
@@ -420,11 +422,11 @@ impl Nested {
                 return Err(format!("cell {idx:?}: nested grid {i} of another cell"));
             }
             let sg = &sub.geom;
-            let (direct, inner) = split(prims, g, idx, refs);
+            let (direct, inner) = split(prims, shared, g, idx, refs);
             if direct[..] != sub.direct[..] {
                 return Err(format!("cell {idx:?}: wrong references tested directly"));
             }
-            let boxes = inner.iter().map(|&p| prims[p as usize].bounds());
+            let boxes = inner.iter().map(|&p| prims[p as usize].bounds(shared));
             if sg.bounds != cover(g, idx, boxes) || sg.pad < pad {
                 return Err(format!("cell {idx:?}: nested grid not over the cell"));
             }
@@ -439,7 +441,7 @@ impl Nested {
             }
             let mut want = Vec::new();
             for &p in &inner {
-                let range = sg.cell_range(&prims[p as usize].bounds());
+                let range = sg.cell_range(&prims[p as usize].bounds(shared));
                 sg.for_each_cell(range, |c| want.push((c, p)));
             }
             let mut got = Vec::new();
@@ -460,7 +462,7 @@ impl Nested {
             if want != got {
                 return Err(format!("cell {idx:?}: nested references differ"));
             }
-            reached += 1 + self.check(prims, sg, &sub.children, own, pad)?;
+            reached += 1 + self.check(prims, shared, sg, &sub.children, own, pad)?;
         }
         Ok(reached)
     }
@@ -474,11 +476,17 @@ impl Nested {
 /// whole cell, and the object would fall into a few nested cells again.
 /// Only when the direct ones are at most an eighth of the references:
 /// otherwise none.
-fn split<P: Primitive>(prims: &[P], g: &Geom, idx: [u32; 3], refs: &[u32]) -> (Vec<u32>, Vec<u32>) {
+fn split<P: Primitive>(
+    prims: &[P],
+    shared: &P::Shared,
+    g: &Geom,
+    idx: [u32; 3],
+    refs: &[u32],
+) -> (Vec<u32>, Vec<u32>) {
     let cell = g.padded_cell_box(idx);
     let half = cell.extent() * 0.5;
     let spans = |r: u32| {
-        let b = prims[r as usize].bounds();
+        let b = prims[r as usize].bounds(shared);
         let e = b.max.min(cell.max) - b.min.max(cell.min);
         e.x >= half.x || e.y >= half.y || e.z >= half.z
     };
@@ -494,13 +502,17 @@ fn split<P: Primitive>(prims: &[P], g: &Geom, idx: [u32; 3], refs: &[u32]) -> (V
 /// `refs`; `None` when it would not separate them.
 fn plan<P: Primitive>(
     prims: &[P],
+    shared: &P::Shared,
     g: &Geom,
     idx: [u32; 3],
     refs: &[u32],
     p: &NestParams,
 ) -> Option<Plan> {
-    let (direct, inner) = split(prims, g, idx, refs);
-    let boxes: Vec<Aabb> = inner.iter().map(|&r| prims[r as usize].bounds()).collect();
+    let (direct, inner) = split(prims, shared, g, idx, refs);
+    let boxes: Vec<Aabb> = inner
+        .iter()
+        .map(|&r| prims[r as usize].bounds(shared))
+        .collect();
     let cell = cover(g, idx, boxes.iter().copied());
     let e = cell.extent();
     let ext = [geom::wide(e.x), geom::wide(e.y), geom::wide(e.z)];

@@ -3,7 +3,7 @@
 use crate::Primitive;
 use gridrt_bbox::Aabb;
 
-/// A permutation of `0..prims.len()` that visits the primitives in Morton
+/// A permutation of `0..prims.len()` (which refer to `shared`) that visits the primitives in Morton
 /// (Z-curve) order of their box centres, 10 bits per axis over the scene's
 /// box; primitives with non-finite boxes come last, in their original order.
 ///
@@ -19,17 +19,18 @@ use gridrt_bbox::Aabb;
 /// use gridrt_grid::{spatial_order, Aabb, PrimHit, Primitive, Ray, Real, Vec3};
 /// struct Dot(Vec3);
 /// impl Primitive for Dot {
+///     type Shared = ();
 ///     type RayData = ();
 ///     fn ray_data(_: &Ray) {}
-///     fn bounds(&self) -> Aabb { Aabb::new(self.0, self.0) }
-///     fn closest_hit(&self, _: &Ray, _: &(), _: Real, _: Real) -> Option<PrimHit> { None }
+///     fn bounds(&self, _: &()) -> Aabb { Aabb::new(self.0, self.0) }
+///     fn closest_hit(&self, _: &(), _: &Ray, _: &(), _: Real, _: Real) -> Option<PrimHit> { None }
 /// }
 /// let dots = [Dot(Vec3::ONE), Dot(Vec3::ZERO), Dot(Vec3::new(1.0, 0.0, 0.0))];
-/// assert_eq!(spatial_order(&dots), vec![1, 2, 0]);
+/// assert_eq!(spatial_order(&dots, &()), vec![1, 2, 0]);
 /// ```
 #[must_use]
-pub fn spatial_order<P: Primitive>(prims: &[P]) -> Vec<u32> {
-    let boxes: Vec<Aabb> = prims.iter().map(Primitive::bounds).collect();
+pub fn spatial_order<P: Primitive>(prims: &[P], shared: &P::Shared) -> Vec<u32> {
+    let boxes: Vec<Aabb> = prims.iter().map(|p| p.bounds(shared)).collect();
     let scene = boxes
         .iter()
         .filter(|b| crate::geom::is_gridded(b))

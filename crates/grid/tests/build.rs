@@ -362,12 +362,13 @@ fn primitives_keep_their_order_and_odd_boxes_are_kept_aside() {
     #[derive(Clone, Debug, PartialEq)]
     struct Odd(Aabb);
     impl Primitive for Odd {
+        type Shared = ();
         type RayData = ();
         fn ray_data(_: &Ray) {}
-        fn bounds(&self) -> Aabb {
+        fn bounds(&self, _: &()) -> Aabb {
             self.0
         }
-        fn closest_hit(&self, _: &Ray, _: &(), _: Real, _: Real) -> Option<PrimHit> {
+        fn closest_hit(&self, _: &(), _: &Ray, _: &(), _: Real, _: Real) -> Option<PrimHit> {
             None
         }
     }

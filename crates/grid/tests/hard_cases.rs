@@ -554,15 +554,16 @@ fn nan_and_infinite_rays_do_not_panic() {
 struct Ground;
 
 impl Primitive for Ground {
+    type Shared = ();
     type RayData = ();
     fn ray_data(_: &Ray) {}
-    fn bounds(&self) -> Aabb {
+    fn bounds(&self, _: &()) -> Aabb {
         Aabb::new(
             v(-Real::INFINITY, 0.0, -Real::INFINITY),
             v(Real::INFINITY, 0.0, Real::INFINITY),
         )
     }
-    fn closest_hit(&self, ray: &Ray, _: &(), t_min: Real, t_max: Real) -> Option<PrimHit> {
+    fn closest_hit(&self, _: &(), ray: &Ray, _: &(), t_min: Real, t_max: Real) -> Option<PrimHit> {
         let t = -ray.origin.y / ray.dir.y;
         (t >= t_min && t <= t_max).then_some(PrimHit::new(t, 0.0, 0.0))
     }
@@ -575,26 +576,28 @@ enum WithGround {
 }
 
 impl Primitive for WithGround {
+    type Shared = ();
     type RayData = <Shape as Primitive>::RayData;
     fn ray_data(ray: &Ray) -> Self::RayData {
         Shape::ray_data(ray)
     }
-    fn bounds(&self) -> Aabb {
+    fn bounds(&self, _: &()) -> Aabb {
         match self {
-            WithGround::Shape(s) => s.bounds(),
-            WithGround::Ground => Ground.bounds(),
+            WithGround::Shape(s) => s.bounds(&()),
+            WithGround::Ground => Ground.bounds(&()),
         }
     }
     fn closest_hit(
         &self,
+        _: &(),
         ray: &Ray,
         data: &Self::RayData,
         t_min: Real,
         t_max: Real,
     ) -> Option<PrimHit> {
         match self {
-            WithGround::Shape(s) => s.closest_hit(ray, data, t_min, t_max),
-            WithGround::Ground => Ground.closest_hit(ray, &(), t_min, t_max),
+            WithGround::Shape(s) => s.closest_hit(&(), ray, data, t_min, t_max),
+            WithGround::Ground => Ground.closest_hit(&(), ray, &(), t_min, t_max),
         }
     }
 }
@@ -626,7 +629,7 @@ fn unbounded_primitives_are_tested_by_every_query() {
 
 /// Random rays from points around `center` (within `radius`) in random
 /// directions, checked against the exhaustive answer; returns the hits.
-fn random_rays<P: Primitive + Clone + std::fmt::Debug>(
+fn random_rays<P: Primitive<Shared = ()> + Clone + std::fmt::Debug>(
     c: &Checker<P>,
     center: Vec3,
     radius: Real,

@@ -161,6 +161,9 @@ pub struct RaysArgs {
     /// Intersection tests and the grid's optional work.
     #[command(flatten)]
     pub intersect: IntersectArgs,
+    /// How the grid stores the triangles.
+    #[command(flatten)]
+    pub storage: crate::cli_rays::StorageArgs,
     /// File access and budgets.
     #[command(flatten)]
     pub access: AccessArgs,

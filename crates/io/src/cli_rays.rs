@@ -7,13 +7,34 @@ use crate::cli_stats::{self, speed_text, Perf, RaysJson};
 use crate::error::{Error, Result};
 use crate::image_out::{check_output_dir, stage, write_atomic};
 use crate::model::load_model_in;
+use crate::model::Model;
 use crate::rays::{format_hits, parse_rays, trace_rays_on};
 use crate::RayQuery;
 use gridrt_grid::{Exhaustive, Grid, GridStats, Primitive, QueryCounters};
-use gridrt_tracer::{MtTriangle, Triangle, TriangleTest};
+use gridrt_tracer::{MeshTriangle, MeshVertices, MtTriangle, Triangle, TriangleTest};
 use std::io::{IsTerminal, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+/// `gridrt rays --triangles`.
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct StorageArgs {
+    /// How the grid stores the mesh's triangles: `copies` (each triangle
+    /// holds its three vertices: 40 bytes) or `indexed` (three indices
+    /// into the mesh's vertex array: 12 bytes, and each vertex once).
+    /// The answers are the same.
+    #[arg(long = "triangles", value_enum, default_value_t = TriangleStorage::Copies)]
+    pub triangles: TriangleStorage,
+}
+
+/// `--triangles` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum TriangleStorage {
+    /// Each triangle holds its vertices.
+    Copies,
+    /// Each triangle holds the indices of its vertices.
+    Indexed,
+}
 
 /// Runs `f(true)` in a thread pool of its own (`threads` workers, or one
 /// per core), or `f(false)` on this thread when no pool can be started (a
@@ -52,20 +73,38 @@ pub(crate) fn rays(a: &RaysArgs, out: &mut dyn Write) -> Result<()> {
     let bytes = sandbox.read(&a.rays)?;
     check_outputs(&outputs, &sandbox.files_read())?;
     let queries = parse_rays(&String::from_utf8_lossy(&bytes), &a.rays)?;
-    let tris: Vec<Triangle> = model
-        .triangles()
-        .map(|[p0, p1, p2]| Triangle::new(p0, p1, p2))
-        .collect();
-    let n_tris = tris.len();
+    let n_tris = model.triangle_count();
+    let indexed = a.storage.triangles == TriangleStorage::Indexed;
+    if indexed && a.intersect.triangle_test() != TriangleTest::Watertight {
+        return Err(Error::arg(
+            "--triangles",
+            "indexed needs the watertight --triangle-test",
+        ));
+    }
+    // The triangles in the form asked for; the model goes (the grid
+    // keeps what it needs).
+    let prims = match (indexed, a.intersect.triangle_test()) {
+        (true, _) => {
+            let (verts, tris) = mesh_triangles(model, &a.mesh)?;
+            RaysPrims::Indexed(verts, tris)
+        }
+        (false, test) => {
+            let copies = model
+                .triangles()
+                .map(|[p0, p1, p2]| Triangle::new(p0, p1, p2));
+            match test {
+                TriangleTest::Watertight => RaysPrims::Copies(copies.collect()),
+                TriangleTest::MollerTrumbore => RaysPrims::Mt(copies.map(MtTriangle).collect()),
+            }
+        }
+    };
     let want_counts = a.stats.is_some();
     let (run, threads) = in_pool(a.threads, |parallel| {
         let threads = if parallel { rayon_threads() } else { 1 };
-        let run = match a.intersect.triangle_test() {
-            TriangleTest::Watertight => run_on(a, tris, &queries, parallel, want_counts),
-            TriangleTest::MollerTrumbore => {
-                let mt = tris.into_iter().map(MtTriangle).collect();
-                run_on(a, mt, &queries, parallel, want_counts)
-            }
+        let run = match prims {
+            RaysPrims::Copies(v) => run_on(a, v, (), &queries, parallel, want_counts),
+            RaysPrims::Mt(v) => run_on(a, v, (), &queries, parallel, want_counts),
+            RaysPrims::Indexed(verts, v) => run_on(a, v, verts, &queries, parallel, want_counts),
         };
         (run, threads)
     });
@@ -129,19 +168,48 @@ pub(crate) fn rays(a: &RaysArgs, out: &mut dyn Write) -> Result<()> {
     Ok(())
 }
 
+/// The triangles `gridrt rays` tests, in the form `--triangle-test` and
+/// `--triangles` ask for.
+enum RaysPrims {
+    Copies(Vec<Triangle>),
+    Mt(Vec<MtTriangle>),
+    Indexed(MeshVertices, Vec<MeshTriangle>),
+}
+
+/// The model's triangles as [`MeshTriangle`]s over one vertex array, the
+/// vertices renumbered in the triangles' spatial order.
+fn mesh_triangles(model: Model, path: &Path) -> Result<(MeshVertices, Vec<MeshTriangle>)> {
+    let (positions, indices) = model.indexed();
+    drop(model);
+    let verts = MeshVertices::new(positions);
+    let mut tris = MeshTriangle::from_indices(&verts, &indices).ok_or_else(|| Error::Limit {
+        path: path.to_path_buf(),
+        place: String::new(),
+        msg: format!(
+            "more than {} vertices: too many for --triangles indexed",
+            MeshTriangle::MAX_VERTICES
+        ),
+    })?;
+    drop(indices);
+    let order = gridrt_grid::spatial_order(&tris, &verts);
+    let (verts, _) = verts.renumber(&mut tris, &order);
+    Ok((verts, tris))
+}
+
 /// Builds the accelerator `a` asks for over `prims` (with the grid switches
 /// of `--mailbox`, `--exact-insertion` and `--slab`) and answers `queries`,
 /// timing the build and the query loop apart.
 fn run_on<P: Primitive + Clone + Send + Sync>(
     a: &RaysArgs,
     prims: Vec<P>,
+    shared: P::Shared,
     queries: &[RayQuery],
     parallel: bool,
     want_counts: bool,
 ) -> RaysRun {
     match a.accel.accel {
         Accel::Exhaustive => {
-            let (e, build) = timed(|| Exhaustive::new(prims));
+            let (e, build) = timed(|| Exhaustive::with_shared(prims, shared));
             let (hits, trace) = timed(|| trace_rays_on(&e, queries, parallel));
             let counters = want_counts.then(|| cli_stats::count_exhaustive(&e, queries));
             RaysRun {
@@ -155,7 +223,7 @@ fn run_on<P: Primitive + Clone + Send + Sync>(
         _ => {
             let mut config = a.intersect.grid(a.accel.grid_config());
             config.parallel_build &= parallel;
-            let (g, build) = timed(|| Grid::build(prims, &config));
+            let (g, build) = timed(|| Grid::build_shared(prims, shared, &config));
             let (hits, trace) = timed(|| trace_rays_on(&g, queries, parallel));
             let counters = want_counts.then(|| cli_stats::count_grid(&g, queries));
             let grid = Some(g.stats().clone());

@@ -303,6 +303,60 @@ fn rays_on_a_tiny_mesh_give_the_known_answers() {
     assert_eq!(stdout(&o), "");
 }
 
+/// `--triangles indexed` answers every ray as the copied triangles do, on
+/// an OBJ and on a glTF whose wheel mesh is placed twice.
+#[test]
+fn rays_with_indexed_triangles_answer_as_copies() {
+    let dir = tempfile::tempdir().unwrap();
+    // Rays from a ring around the origin towards points near it.
+    let mut csv = String::new();
+    for i in 0..400 {
+        let a = i as f64 * 0.37;
+        let (o, t) = (
+            [6.0 * a.cos(), 1.0 + (a * 0.7).sin(), 6.0 * a.sin()],
+            [(a * 1.3).sin(), (a * 0.9).cos(), (a * 2.1).sin()],
+        );
+        let d: Vec<String> = (0..3).map(|k| format!("{}", t[k] - o[k])).collect();
+        csv += &format!("{},{},{},{}\n", o[0], o[1], o[2], d.join(","));
+    }
+    std::fs::write(dir.path().join("r.csv"), csv).unwrap();
+    for mesh in [
+        "meshes/teapot/teapot.obj",
+        "meshes/gltf_cesium_milk_truck/CesiumMilkTruck.glb",
+    ] {
+        let mesh = fixture(mesh);
+        let run = |extra: &[&str]| {
+            let mut args = vec!["rays", mesh.to_str().unwrap(), "r.csv"];
+            args.extend_from_slice(extra);
+            let o = gridrt(&args, dir.path());
+            assert!(o.status.success(), "{}", stderr(&o));
+            stdout(&o)
+        };
+        let copies = run(&[]);
+        assert!(
+            copies.lines().filter(|l| *l != "miss").count() > 40,
+            "{mesh:?}"
+        );
+        for accel in ["auto", "grid", "hierarchy", "exhaustive"] {
+            let indexed = run(&["--triangles", "indexed", "--accel", accel]);
+            assert_eq!(indexed, copies, "{mesh:?} {accel}");
+        }
+    }
+    let o = gridrt(
+        &[
+            "rays",
+            fixture("meshes/teapot/teapot.obj").to_str().unwrap(),
+            "r.csv",
+            "--triangles",
+            "indexed",
+            "--triangle-test",
+            "moller-trumbore",
+        ],
+        dir.path(),
+    );
+    assert_one_line_error(&o, "--triangles");
+}
+
 #[test]
 fn rays_number_gltf_triangles_in_node_order() {
     // Ray straight down onto the glass triangle (index 27) of hierarchy.gltf.

@@ -21,7 +21,7 @@ fn obj_vertices_and_ray_csv_keep_the_builds_precision() {
         tris[0].vertices()[0],
         Vec3::new(0.0, 0.0, "0.1".parse().unwrap())
     );
-    assert!(tris[0].bounds().min.z == "0.1".parse::<Real>().unwrap());
+    assert!(tris[0].bounds(&()).min.z == "0.1".parse::<Real>().unwrap());
     let rays = parse_rays("0.25,0.25,1.0,0,0,-1\n", &dir.path().join("r.csv")).unwrap();
     assert_eq!(rays[0].ray.origin.x, "0.25".parse::<Real>().unwrap());
     let hits = trace_rays(&Exhaustive::new(tris), &rays);

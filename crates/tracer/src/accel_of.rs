@@ -8,7 +8,7 @@ use gridrt_grid::{CellStorage, Exhaustive, Grid, GridConfig, GridStats, Primitiv
 /// An accelerator over one primitive type.
 #[derive(Debug)]
 #[allow(clippy::large_enum_variant)] // one per renderer
-pub(crate) enum AccelOf<P> {
+pub(crate) enum AccelOf<P: Primitive> {
     Grid(Grid<P>),
     Exhaustive(Exhaustive<P>),
 }
@@ -74,15 +74,19 @@ pub(crate) fn grid_config(options: &RenderOptions, parallel: bool) -> Option<Gri
 /// cell order).
 pub(crate) fn build_accel<P: Primitive + Send>(
     prims: Vec<P>,
+    shared: P::Shared,
     options: &RenderOptions,
     parallel: bool,
 ) -> (AccelOf<P>, Option<GridStats>) {
     match grid_config(options, parallel) {
         Some(config) => {
-            let grid = Grid::build(prims, &config);
+            let grid = Grid::build_shared(prims, shared, &config);
             let stats = grid.stats().clone();
             (AccelOf::Grid(grid), Some(stats))
         }
-        None => (AccelOf::Exhaustive(Exhaustive::new(prims)), None),
+        None => (
+            AccelOf::Exhaustive(Exhaustive::with_shared(prims, shared)),
+            None,
+        ),
     }
 }

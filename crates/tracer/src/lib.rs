@@ -120,7 +120,10 @@ pub use scene::{
     Camera, ConductorFresnel, EnvImage, Geometry, IntegratorChoice, Light, Material, MaterialId,
     Mesh, Object, Occlusion, Projection, Rgb, Scene, Settings, SphereSet, ThinLens,
 };
-pub use shapes::{Cuboid, MtTriangle, Plane, Shape, Shear, Sphere, Triangle, MT_EPSILON};
+pub use shapes::{
+    Cuboid, MeshTriangle, MeshVertices, MtTriangle, Plane, Shape, Shear, Sphere, Triangle,
+    MT_EPSILON,
+};
 pub use texture::{MaterialMaps, Texture, TextureRef, Textures};
 pub use transform::Affine;
 

@@ -136,7 +136,7 @@ impl Renderer {
         let prim_count = prims.len() + data.planes.len();
         let (accel, grid_stats) = pool.install(|| match prims {
             Prims::Spheres(v) => {
-                let (a, s) = build_accel(v, options, parallel);
+                let (a, s) = build_accel(v, (), options, parallel);
                 (Accel::Spheres(a), s)
             }
             Prims::Set(set) => {
@@ -154,11 +154,11 @@ impl Renderer {
                 (Accel::Spheres(a), s)
             }
             Prims::Triangles(v) => {
-                let (a, s) = build_accel(v, options, parallel);
+                let (a, s) = build_accel(v, (), options, parallel);
                 (Accel::Triangles(a), s)
             }
             Prims::Shapes(v) => {
-                let (a, s) = build_accel(v, options, parallel);
+                let (a, s) = build_accel(v, (), options, parallel);
                 (Accel::Shapes(a), s)
             }
         });

@@ -153,7 +153,7 @@ impl<P: Primitive> Grid<P> {
         let mut unbounded = Vec::new();
         for (slot, prim) in self.prims.iter().enumerate() {
             let p = self.ids[slot] as usize;
-            let b = prim.bounds();
+            let b = prim.bounds(&self.shared);
             if !crate::geom::is_gridded(&b) {
                 unbounded.push(slot as u32);
                 continue;
@@ -170,7 +170,7 @@ impl<P: Primitive> Grid<P> {
                     for i in lo[0]..=hi[0] {
                         let inside = !self.config.exact_insertion
                             || lo == hi
-                            || prim.overlaps_box(&g.padded_cell_box([i, j, k]));
+                            || prim.overlaps_box(&self.shared, &g.padded_cell_box([i, j, k]));
                         if inside {
                             expected.push(([i, j, k], p as u32));
                         }
@@ -211,6 +211,7 @@ impl<P: Primitive> Grid<P> {
         let all = self.runs(1);
         let reached = self.nested.check(
             &self.prims,
+            &self.shared,
             &self.geom,
             &self.nested.root,
             all,

@@ -27,6 +27,8 @@ pub(super) fn prim_id(ids: &[u32], r: u32) -> u32 {
 pub(super) struct Closest<'q, P: Primitive, C, const MB: bool> {
     /// The grid's primitives in slot order: what the references index.
     pub(super) prims: &'q [P],
+    /// What the primitives share.
+    pub(super) shared: &'q P::Shared,
     /// The primitive index of each slot.
     pub(super) ids: &'q [u32],
     /// The walked grid's references (a cell's nested grid is found by its
@@ -54,10 +56,16 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
     #[inline(always)]
     pub(super) fn test_each(&mut self, refs: &[u32]) {
         self.counters.tests(refs.len());
-        let (prims, ids, ray, data, t_min, t_lim) = (
-            self.prims, self.ids, self.ray, self.data, self.t_min, self.t_lim,
+        let (prims, shared, ids, ray, data, t_min, t_lim) = (
+            self.prims,
+            self.shared,
+            self.ids,
+            self.ray,
+            self.data,
+            self.t_min,
+            self.t_lim,
         );
-        P::closest_hits(prims, refs, ray, data, t_min, t_lim, &mut |r, h| {
+        P::closest_hits(prims, shared, refs, ray, data, t_min, t_lim, &mut |r, h| {
             self.keep(Hit::new(h, prim_id(ids, r), r))
         });
     }
@@ -71,7 +79,8 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
         // (checked by `check_invariants`).
         let prim = unsafe { self.prims.get_unchecked(r as usize) };
         self.counters.test();
-        if let Some(h) = prim.closest_hit(self.ray, self.data, self.t_min, self.t_lim) {
+        if let Some(h) = prim.closest_hit(self.shared, self.ray, self.data, self.t_min, self.t_lim)
+        {
             self.keep(Hit::new(h, prim_id(self.ids, r), r));
         }
     }
@@ -100,6 +109,7 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
         let lookup = sub.lookup();
         let mut q = Closest::<P, C, MB> {
             prims: self.prims,
+            shared: self.shared,
             ids: self.ids,
             refs: &sub.refs,
             children: &sub.children,
@@ -173,6 +183,8 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
 pub(super) struct AnyHit<'q, P: Primitive, C, const MB: bool> {
     /// The grid's primitives in slot order: what the references index.
     pub(super) prims: &'q [P],
+    /// What the primitives share.
+    pub(super) shared: &'q P::Shared,
     /// The walked grid's references (a cell's nested grid is found by its
     /// run's start).
     pub(super) refs: &'q [u32],
@@ -214,7 +226,13 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
         if !MB {
             self.counters.tests(refs.len());
             return if P::any_hits(
-                self.prims, refs, self.ray, self.data, self.t_min, self.t_max,
+                self.prims,
+                self.shared,
+                refs,
+                self.ray,
+                self.data,
+                self.t_min,
+                self.t_max,
             ) {
                 ControlFlow::Break(())
             } else {
@@ -233,7 +251,7 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
             self.counters.test();
             // SAFETY: every stored reference is a valid index into `prims`.
             let prim = unsafe { self.prims.get_unchecked(p as usize) };
-            if prim.any_hit(self.ray, self.data, self.t_min, self.t_max) {
+            if prim.any_hit(self.shared, self.ray, self.data, self.t_min, self.t_max) {
                 return ControlFlow::Break(());
             }
         }
@@ -254,6 +272,7 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
         let lookup = sub.lookup();
         let mut q = AnyHit::<P, C, MB> {
             prims: self.prims,
+            shared: self.shared,
             refs: &sub.refs,
             children: &sub.children,
             subs: self.subs,

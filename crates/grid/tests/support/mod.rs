@@ -38,7 +38,7 @@ pub struct Checker<P: Primitive + Clone> {
     pub grids: Vec<Grid<P>>,
 }
 
-impl<P: Primitive + Clone + std::fmt::Debug> Checker<P> {
+impl<P: Primitive<Shared = ()> + Clone + std::fmt::Debug> Checker<P> {
     /// Builds the reference and one grid per config (checking each grid's
     /// invariants).
     pub fn new(prims: Vec<P>, configs: &[GridConfig]) -> Self

@@ -32,19 +32,20 @@ impl Sphere {
 }
 
 impl Primitive for Sphere {
+    type Shared = ();
     type RayData = ();
 
     #[inline(always)]
     fn ray_data(_: &Ray) {}
 
     #[inline(always)]
-    fn bounds(&self) -> Aabb {
+    fn bounds(&self, _: &()) -> Aabb {
         let r = Vec3::splat(self.radius);
         Aabb::new(self.center - r, self.center + r)
     }
 
     #[inline(always)]
-    fn closest_hit(&self, ray: &Ray, _: &(), t_min: Real, t_max: Real) -> Option<PrimHit> {
+    fn closest_hit(&self, _: &(), ray: &Ray, _: &(), t_min: Real, t_max: Real) -> Option<PrimHit> {
         let f = ray.origin - self.center;
         let d = ray.dir;
         let a = d.dot(d);
@@ -84,6 +85,7 @@ impl Primitive for Sphere {
     #[inline(always)]
     fn closest_hits(
         prims: &[Self],
+        shared: &(),
         refs: &[u32],
         ray: &Ray,
         _: &(),
@@ -95,7 +97,7 @@ impl Primitive for Sphere {
         let a = d.dot(d);
         let dl = [d.x, d.y, d.z].map(Lanes::splat);
         let (al, aa) = (Lanes::splat(a), Lanes::splat(a * a));
-        closest_hits_prefiltered(prims, refs, ray, &(), t_min, t_max, keep, |four| {
+        closest_hits_prefiltered(prims, shared, refs, ray, &(), t_min, t_max, keep, |four| {
             let m = LaneMat::from_cols_array_2d(
                 &four.map(|s| [s.center.x, s.center.y, s.center.z, s.radius]),
             )
@@ -115,7 +117,7 @@ impl Primitive for Sphere {
 
     /// The squared distance from the centre to the box against `r²`, with a
     /// little slack so that rounding never culls a touching sphere.
-    fn overlaps_box(&self, cell: &Aabb) -> bool {
+    fn overlaps_box(&self, _: &(), cell: &Aabb) -> bool {
         let q = self.center.clamp(cell.min, cell.max);
         let d2 = (q - self.center).length_squared();
         let r2 = self.radius * self.radius;
@@ -243,6 +245,7 @@ impl Triangle {
 }
 
 impl Primitive for Triangle {
+    type Shared = ();
     type RayData = Shear;
 
     #[inline(always)]
@@ -251,13 +254,20 @@ impl Primitive for Triangle {
     }
 
     #[inline(always)]
-    fn bounds(&self) -> Aabb {
+    fn bounds(&self, _: &()) -> Aabb {
         let [a, b, c] = self.vertices();
         Aabb::new(a.min(b).min(c), a.max(b).max(c))
     }
 
     #[inline(always)]
-    fn closest_hit(&self, _: &Ray, shear: &Shear, t_min: Real, t_max: Real) -> Option<PrimHit> {
+    fn closest_hit(
+        &self,
+        _: &(),
+        _: &Ray,
+        shear: &Shear,
+        t_min: Real,
+        t_max: Real,
+    ) -> Option<PrimHit> {
         use glam::Vec4Swizzles;
         let [kx, ky, kz] = shear.axes;
         let [ox, oy, oz] = shear.origin;
@@ -307,6 +317,7 @@ impl Primitive for Triangle {
     #[inline]
     fn closest_hits(
         prims: &[Self],
+        shared: &(),
         refs: &[u32],
         ray: &Ray,
         shear: &Shear,
@@ -314,16 +325,24 @@ impl Primitive for Triangle {
         t_max: Real,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
-        closest_hits_prefiltered(prims, refs, ray, shear, t_min, t_max, keep, |four| {
-            shear.triangles_may_hit(|k| four.map(|t| t.lanes(k)))
-        });
+        closest_hits_prefiltered(
+            prims,
+            shared,
+            refs,
+            ray,
+            shear,
+            t_min,
+            t_max,
+            keep,
+            |four| shear.triangles_may_hit(|k| four.map(|t| t.lanes(k))),
+        );
     }
 
     /// Separating-axis test of the triangle against the box (Akenine-Möller
     /// 2001), with a relative tolerance on every comparison so that it errs
     /// on the side of "overlaps".
-    fn overlaps_box(&self, cell: &Aabb) -> bool {
-        if !self.bounds().overlaps(cell) {
+    fn overlaps_box(&self, _: &(), cell: &Aabb) -> bool {
+        if !self.bounds(&()).overlaps(cell) {
             return false;
         }
         let c = cell.centroid();
@@ -368,6 +387,9 @@ pub enum Shape {
 }
 
 impl Primitive for Shape {
+    /// Nothing shared: the primitive holds all it needs.
+    type Shared = ();
+
     /// The triangles' frame; spheres need nothing.
     type RayData = Shear;
 
@@ -377,23 +399,30 @@ impl Primitive for Shape {
     }
 
     #[inline(always)]
-    fn bounds(&self) -> Aabb {
+    fn bounds(&self, _: &()) -> Aabb {
         match self {
-            Shape::Sphere(s) => s.bounds(),
-            Shape::Triangle(t) => t.bounds(),
+            Shape::Sphere(s) => s.bounds(&()),
+            Shape::Triangle(t) => t.bounds(&()),
         }
     }
     #[inline(always)]
-    fn closest_hit(&self, ray: &Ray, shear: &Shear, t_min: Real, t_max: Real) -> Option<PrimHit> {
+    fn closest_hit(
+        &self,
+        _: &(),
+        ray: &Ray,
+        shear: &Shear,
+        t_min: Real,
+        t_max: Real,
+    ) -> Option<PrimHit> {
         match self {
-            Shape::Sphere(s) => s.closest_hit(ray, &(), t_min, t_max),
-            Shape::Triangle(t) => t.closest_hit(ray, shear, t_min, t_max),
+            Shape::Sphere(s) => s.closest_hit(&(), ray, &(), t_min, t_max),
+            Shape::Triangle(t) => t.closest_hit(&(), ray, shear, t_min, t_max),
         }
     }
-    fn overlaps_box(&self, cell: &Aabb) -> bool {
+    fn overlaps_box(&self, _: &(), cell: &Aabb) -> bool {
         match self {
-            Shape::Sphere(s) => s.overlaps_box(cell),
-            Shape::Triangle(t) => t.overlaps_box(cell),
+            Shape::Sphere(s) => s.overlaps_box(&(), cell),
+            Shape::Triangle(t) => t.overlaps_box(&(), cell),
         }
     }
 }

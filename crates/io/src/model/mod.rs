@@ -223,6 +223,28 @@ impl Model {
         })
     }
 
+    /// The triangles of [`Self::triangles`] as one vertex array and the
+    /// vertex indices of each triangle (in the same order): every mesh's
+    /// positions once per placement, placements applied.
+    #[must_use]
+    pub fn indexed(&self) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+        let mut positions = Vec::new();
+        let mut triangles =
+            Vec::with_capacity(self.meshes.iter().map(|m| m.mesh.triangles.len()).sum());
+        for m in &self.meshes {
+            let base = positions.len() as u32;
+            let p = &m.mesh.positions;
+            match m.placement {
+                None => positions.extend_from_slice(p),
+                Some(w) => {
+                    positions.extend(p.iter().map(|&q| to_vec3(w.transform_point3(to_dvec3(q)))))
+                }
+            }
+            triangles.extend(m.mesh.triangles.iter().map(|t| t.map(|k| base + k)));
+        }
+        (positions, triangles)
+    }
+
     pub(crate) fn transform(&mut self, m: &DMat4) -> std::result::Result<(), String> {
         let xf = Xform::new(m)?;
         for (i, mm) in self.meshes.iter_mut().enumerate() {

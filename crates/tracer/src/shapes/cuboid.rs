@@ -12,7 +12,7 @@ use gridrt_grid::{PrimHit, Primitive};
 /// use gridrt_tracer::Cuboid;
 /// use gridrt_grid::{Primitive, Ray, Real, Vec3};
 /// let c = Cuboid::new(Vec3::splat(-1.0), Vec3::ONE);
-/// let h = c.closest_hit(&Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z), &(), 0.0, Real::INFINITY).unwrap();
+/// let h = c.closest_hit(&(), &Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z), &(), 0.0, Real::INFINITY).unwrap();
 /// assert_eq!((h.t, h.u), (4.0, 5.0)); // enters through the +z face
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -84,6 +84,9 @@ impl Cuboid {
 }
 
 impl Primitive for Cuboid {
+    /// Nothing shared: the primitive holds all it needs.
+    type Shared = ();
+
     /// Nothing is computed once per ray.
     type RayData = ();
 
@@ -91,20 +94,20 @@ impl Primitive for Cuboid {
     fn ray_data(_: &Ray) {}
 
     #[inline]
-    fn bounds(&self) -> Aabb {
+    fn bounds(&self, _: &()) -> Aabb {
         Aabb::new(self.min, self.max)
     }
 
     #[inline]
-    fn closest_hit(&self, ray: &Ray, _: &(), t_min: Real, t_max: Real) -> Option<PrimHit> {
+    fn closest_hit(&self, _: &(), ray: &Ray, _: &(), t_min: Real, t_max: Real) -> Option<PrimHit> {
         self.intersect(ray, t_min, t_max)
             .map(|(t, face)| PrimHit::new(t, Real::from(face), 0.0))
     }
 
     /// Box–box overlap: exact (no arithmetic).
     #[inline]
-    fn overlaps_box(&self, cell: &Aabb) -> bool {
-        self.bounds().overlaps(cell)
+    fn overlaps_box(&self, _: &(), cell: &Aabb) -> bool {
+        self.bounds(&()).overlaps(cell)
     }
 }
 
@@ -167,7 +170,7 @@ mod tests {
     fn surface_snaps_to_the_face() {
         let c = Cuboid::new(Vec3::new(-1.0, -2.0, -3.0), Vec3::new(0.3, 0.7, 0.1));
         let r = Ray::new(Vec3::new(5.0, 0.1, -1.0), Vec3::new(-1.0, 0.013, 0.02));
-        let h = c.closest_hit(&r, &(), 0.0, 100.0).unwrap();
+        let h = c.closest_hit(&(), &r, &(), 0.0, 100.0).unwrap();
         let sp = c.surface(&r, &h);
         assert_eq!(sp.p.x, 0.3);
         assert_eq!(sp.n, Vec3::X);

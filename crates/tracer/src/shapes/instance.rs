@@ -133,6 +133,9 @@ impl Instance {
 }
 
 impl Primitive for Instance {
+    /// Nothing shared: the primitive holds all it needs.
+    type Shared = ();
+
     /// Nothing is computed once per world-space ray: the mesh's grid
     /// computes its triangles' data for the object-space ray.
     type RayData = ();
@@ -141,12 +144,12 @@ impl Primitive for Instance {
     fn ray_data(_: &Ray) {}
 
     #[inline]
-    fn bounds(&self) -> Aabb {
+    fn bounds(&self, _: &()) -> Aabb {
         self.bounds
     }
 
     #[inline]
-    fn closest_hit(&self, ray: &Ray, _: &(), t_min: Real, t_max: Real) -> Option<PrimHit> {
+    fn closest_hit(&self, _: &(), ray: &Ray, _: &(), t_min: Real, t_max: Real) -> Option<PrimHit> {
         let r = self.object_ray(ray);
         let h = self
             .shared
@@ -161,7 +164,7 @@ impl Primitive for Instance {
     }
 
     #[inline]
-    fn any_hit(&self, ray: &Ray, _: &(), t_min: Real, t_max: Real) -> bool {
+    fn any_hit(&self, _: &(), ray: &Ray, _: &(), t_min: Real, t_max: Real) -> bool {
         let r = self.object_ray(ray);
         self.shared
             .grid
@@ -226,7 +229,9 @@ mod tests {
         };
         let inst = placed(to_world);
         let ray = Ray::new(Vec3::new(11.0, 1.0, 5.0), Vec3::new(0.0, 0.0, -2.0));
-        let h = inst.closest_hit(&ray, &(), 0.0, Real::INFINITY).unwrap();
+        let h = inst
+            .closest_hit(&(), &ray, &(), 0.0, Real::INFINITY)
+            .unwrap();
         assert!((h.t - 5.0).abs() < 1e-5, "{h:?}");
         // (11, 1) is (0.5, 0.5) in object space: the second triangle.
         assert_eq!(h.part, 0);
@@ -236,10 +241,12 @@ mod tests {
                 <= sp.p_err.max_element() + 1e-5
         );
         assert!((sp.n - Vec3::Z).length() < 1e-6);
-        assert!(inst.any_hit(&ray, &(), 0.0, 6.0));
-        assert!(!inst.any_hit(&ray, &(), 0.0, 4.0));
+        assert!(inst.any_hit(&(), &ray, &(), 0.0, 6.0));
+        assert!(!inst.any_hit(&(), &ray, &(), 0.0, 4.0));
         let miss = Ray::new(Vec3::new(13.0, 1.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
-        assert!(inst.closest_hit(&miss, &(), 0.0, Real::INFINITY).is_none());
+        assert!(inst
+            .closest_hit(&(), &miss, &(), 0.0, Real::INFINITY)
+            .is_none());
     }
 
     #[test]
@@ -250,14 +257,16 @@ mod tests {
         };
         let inst = placed(mirror);
         let ray = Ray::new(Vec3::new(0.2, -0.5, 3.0), Vec3::new(0.0, 0.0, -1.0));
-        let h = inst.closest_hit(&ray, &(), 0.0, Real::INFINITY).unwrap();
+        let h = inst
+            .closest_hit(&(), &ray, &(), 0.0, Real::INFINITY)
+            .unwrap();
         let sp = inst.surface_part(&ray, &h);
         // The quad faced +z; mirrored in z its front faces −z.
         assert!((sp.n + Vec3::Z).length() < 1e-6, "{:?}", sp.n);
         assert_eq!(h.part, 0);
         let other = Ray::new(Vec3::new(-0.5, 0.2, 3.0), Vec3::new(0.0, 0.0, -1.0));
         assert_eq!(
-            inst.closest_hit(&other, &(), 0.0, Real::INFINITY)
+            inst.closest_hit(&(), &other, &(), 0.0, Real::INFINITY)
                 .unwrap()
                 .part,
             1
@@ -270,7 +279,7 @@ mod tests {
             cols: [Vec3::Y, -Vec3::X, Vec3::Z],
             translation: Vec3::new(0.0, 0.0, 100.0),
         };
-        let b = placed(rot).bounds();
+        let b = placed(rot).bounds(&());
         for p in [Vec3::new(-1.0, -1.0, 100.0), Vec3::new(1.0, 1.0, 100.0)] {
             assert!(p.cmpge(b.min).all() && p.cmple(b.max).all());
         }

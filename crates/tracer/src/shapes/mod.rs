@@ -10,6 +10,7 @@
 
 mod cuboid;
 mod instance;
+mod mesh_triangle;
 mod overlap;
 mod plane;
 mod shear;
@@ -19,6 +20,7 @@ mod triangle_mt;
 
 pub use cuboid::Cuboid;
 pub use instance::{Instance, MeshGrid};
+pub use mesh_triangle::{MeshTriangle, MeshVertices};
 pub use plane::Plane;
 pub use shear::{LazyShear, Shear};
 pub use sphere::Sphere;
@@ -78,6 +80,9 @@ pub enum Shape {
 }
 
 impl Primitive for Shape {
+    /// Nothing shared: the primitive holds all it needs.
+    type Shared = ();
+
     /// The shear frame of the watertight triangles, made when the ray
     /// first meets one: rays through spheres and boxes alone never pay
     /// for it.
@@ -89,41 +94,42 @@ impl Primitive for Shape {
     }
 
     #[inline]
-    fn bounds(&self) -> Aabb {
+    fn bounds(&self, _: &()) -> Aabb {
         match self {
-            Shape::Sphere(s) => s.bounds(),
-            Shape::Cuboid(c) => c.bounds(),
-            Shape::Triangle(t) => t.bounds(),
-            Shape::MtTriangle(t) => t.bounds(),
-            Shape::Instance(i) => i.bounds(),
+            Shape::Sphere(s) => s.bounds(&()),
+            Shape::Cuboid(c) => c.bounds(&()),
+            Shape::Triangle(t) => t.bounds(&()),
+            Shape::MtTriangle(t) => t.bounds(&()),
+            Shape::Instance(i) => i.bounds(&()),
         }
     }
 
     #[inline]
     fn closest_hit(
         &self,
+        _: &(),
         ray: &Ray,
         shear: &LazyShear,
         t_min: Real,
         t_max: Real,
     ) -> Option<PrimHit> {
         match self {
-            Shape::Sphere(s) => s.closest_hit(ray, &(), t_min, t_max),
-            Shape::Cuboid(c) => c.closest_hit(ray, &(), t_min, t_max),
-            Shape::Triangle(t) => t.closest_hit(ray, shear.of(ray), t_min, t_max),
-            Shape::MtTriangle(t) => t.closest_hit(ray, &(), t_min, t_max),
-            Shape::Instance(i) => i.closest_hit(ray, &(), t_min, t_max),
+            Shape::Sphere(s) => s.closest_hit(&(), ray, &(), t_min, t_max),
+            Shape::Cuboid(c) => c.closest_hit(&(), ray, &(), t_min, t_max),
+            Shape::Triangle(t) => t.closest_hit(&(), ray, shear.of(ray), t_min, t_max),
+            Shape::MtTriangle(t) => t.closest_hit(&(), ray, &(), t_min, t_max),
+            Shape::Instance(i) => i.closest_hit(&(), ray, &(), t_min, t_max),
         }
     }
 
     #[inline]
-    fn any_hit(&self, ray: &Ray, shear: &LazyShear, t_min: Real, t_max: Real) -> bool {
+    fn any_hit(&self, _: &(), ray: &Ray, shear: &LazyShear, t_min: Real, t_max: Real) -> bool {
         match self {
-            Shape::Sphere(s) => s.any_hit(ray, &(), t_min, t_max),
-            Shape::Cuboid(c) => c.any_hit(ray, &(), t_min, t_max),
-            Shape::Triangle(t) => t.any_hit(ray, shear.of(ray), t_min, t_max),
-            Shape::MtTriangle(t) => t.any_hit(ray, &(), t_min, t_max),
-            Shape::Instance(i) => i.any_hit(ray, &(), t_min, t_max),
+            Shape::Sphere(s) => s.any_hit(&(), ray, &(), t_min, t_max),
+            Shape::Cuboid(c) => c.any_hit(&(), ray, &(), t_min, t_max),
+            Shape::Triangle(t) => t.any_hit(&(), ray, shear.of(ray), t_min, t_max),
+            Shape::MtTriangle(t) => t.any_hit(&(), ray, &(), t_min, t_max),
+            Shape::Instance(i) => i.any_hit(&(), ray, &(), t_min, t_max),
         }
     }
 
@@ -132,6 +138,7 @@ impl Primitive for Shape {
     #[inline]
     fn closest_hits(
         prims: &[Self],
+        shared: &(),
         refs: &[u32],
         ray: &Ray,
         shear: &LazyShear,
@@ -141,11 +148,19 @@ impl Primitive for Shape {
     ) {
         if refs.len() < 4 {
             // Too few for the four-lane filter to pay for its set-up.
-            return closest_hits_each(prims, refs, ray, shear, t_min, t_max, keep);
+            return closest_hits_each(prims, shared, refs, ray, shear, t_min, t_max, keep);
         }
-        closest_hits_prefiltered(prims, refs, ray, shear, t_min, t_max, keep, |four| {
-            Shape::may_hit(ray, shear, four)
-        });
+        closest_hits_prefiltered(
+            prims,
+            shared,
+            refs,
+            ray,
+            shear,
+            t_min,
+            t_max,
+            keep,
+            |four| Shape::may_hit(ray, shear, four),
+        );
     }
 
     /// Four at a time where all four are watertight triangles; a cell of
@@ -153,6 +168,7 @@ impl Primitive for Shape {
     #[inline]
     fn any_hits(
         prims: &[Self],
+        shared: &(),
         refs: &[u32],
         ray: &Ray,
         shear: &LazyShear,
@@ -160,21 +176,21 @@ impl Primitive for Shape {
         t_max: Real,
     ) -> bool {
         if refs.len() < 4 {
-            return any_hits_each(prims, refs, ray, shear, t_min, t_max);
+            return any_hits_each(prims, shared, refs, ray, shear, t_min, t_max);
         }
-        any_hits_prefiltered(prims, refs, ray, shear, t_min, t_max, |four| {
+        any_hits_prefiltered(prims, shared, refs, ray, shear, t_min, t_max, |four| {
             Shape::may_hit(ray, shear, four)
         })
     }
 
     #[inline]
-    fn overlaps_box(&self, cell: &Aabb) -> bool {
+    fn overlaps_box(&self, _: &(), cell: &Aabb) -> bool {
         match self {
-            Shape::Sphere(s) => s.overlaps_box(cell),
-            Shape::Cuboid(c) => c.overlaps_box(cell),
-            Shape::Triangle(t) => t.overlaps_box(cell),
-            Shape::MtTriangle(t) => t.overlaps_box(cell),
-            Shape::Instance(i) => i.overlaps_box(cell),
+            Shape::Sphere(s) => s.overlaps_box(&(), cell),
+            Shape::Cuboid(c) => c.overlaps_box(&(), cell),
+            Shape::Triangle(t) => t.overlaps_box(&(), cell),
+            Shape::MtTriangle(t) => t.overlaps_box(&(), cell),
+            Shape::Instance(i) => i.overlaps_box(&(), cell),
         }
     }
 }

@@ -109,15 +109,35 @@ impl Shear {
     #[inline(always)]
     #[must_use]
     pub fn triangles_may_hit(&self, coord: impl Fn(usize) -> [Lanes; 4]) -> u32 {
-        let [kx, ky, kz] = self.axes;
-        let [ox, oy, oz] = self.origin;
-        let [sx, sy] = self.s_lanes;
         // Coordinate `k` of vertex `i` of the four triangles: row `i`.
-        let rows = |k: usize| {
+        self.may_hit_rows(|k| {
             let [a, b, c, d] = coord(k);
             let m = LaneMat::from_cols(a, b, c, d).transpose();
             [m.x_axis, m.y_axis, m.z_axis]
-        };
+        })
+    }
+
+    /// [`Self::triangles_may_hit`] given the triangles vertex by vertex:
+    /// `vertex(i)` holds vertex `i` of each of the four triangles, as
+    /// `(x, y, z, any)` (a mesh's vertex array gives them so).
+    #[inline(always)]
+    #[must_use]
+    pub fn triangles_may_hit_by_vertex(&self, vertex: impl Fn(usize) -> [Lanes; 4]) -> u32 {
+        let v = [0, 1, 2].map(|i| {
+            let [a, b, c, d] = vertex(i);
+            let m = LaneMat::from_cols(a, b, c, d).transpose();
+            [m.x_axis, m.y_axis, m.z_axis]
+        });
+        self.may_hit_rows(|k| [v[0][k], v[1][k], v[2][k]])
+    }
+
+    /// The rejection of [`Self::triangles_may_hit`] from `rows(k)`:
+    /// coordinate `k` of vertices 0, 1 and 2 of the four triangles.
+    #[inline(always)]
+    fn may_hit_rows(&self, rows: impl Fn(usize) -> [Lanes; 3]) -> u32 {
+        let [kx, ky, kz] = self.axes;
+        let [ox, oy, oz] = self.origin;
+        let [sx, sy] = self.s_lanes;
         let z = rows(kz).map(|c| c - oz);
         let [x, y] = [(rows(kx), ox, sx), (rows(ky), oy, sy)]
             .map(|(c, o, s)| [0, 1, 2].map(|i| (c[i] - o) - s * z[i]));

@@ -17,7 +17,7 @@ use gridrt_grid::{closest_hits_prefiltered, PrimHit, Primitive};
 /// use gridrt_tracer::Sphere;
 /// use gridrt_grid::{Primitive, Ray, Real, Vec3};
 /// let s = Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0);
-/// let h = s.closest_hit(&Ray::new(Vec3::ZERO, -Vec3::Z), &(), 0.0, Real::INFINITY).unwrap();
+/// let h = s.closest_hit(&(), &Ray::new(Vec3::ZERO, -Vec3::Z), &(), 0.0, Real::INFINITY).unwrap();
 /// assert_eq!(h.t, 4.0);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -98,6 +98,9 @@ impl Sphere {
 }
 
 impl Primitive for Sphere {
+    /// Nothing shared: the primitive holds all it needs.
+    type Shared = ();
+
     /// Nothing is computed once per ray.
     type RayData = ();
 
@@ -107,20 +110,20 @@ impl Primitive for Sphere {
     /// The centre ± radius, widened by the rounding of the two additions, so
     /// the box holds every point of the sphere.
     #[inline]
-    fn bounds(&self) -> Aabb {
+    fn bounds(&self, _: &()) -> Aabb {
         let r = Vec3::splat(self.radius);
         let pad = (self.center.abs() + r) * gamma(1);
         Aabb::new(self.center - r - pad, self.center + r + pad)
     }
 
     #[inline]
-    fn closest_hit(&self, ray: &Ray, _: &(), t_min: Real, t_max: Real) -> Option<PrimHit> {
+    fn closest_hit(&self, _: &(), ray: &Ray, _: &(), t_min: Real, t_max: Real) -> Option<PrimHit> {
         self.intersect(ray, t_min, t_max)
             .map(|t| PrimHit::new(t, 0.0, 0.0))
     }
 
     #[inline]
-    fn any_hit(&self, ray: &Ray, _: &(), t_min: Real, t_max: Real) -> bool {
+    fn any_hit(&self, _: &(), ray: &Ray, _: &(), t_min: Real, t_max: Real) -> bool {
         self.intersect(ray, t_min, t_max).is_some()
     }
 
@@ -132,6 +135,7 @@ impl Primitive for Sphere {
     #[inline]
     fn closest_hits(
         prims: &[Self],
+        shared: &(),
         refs: &[u32],
         ray: &Ray,
         _: &(),
@@ -143,7 +147,7 @@ impl Primitive for Sphere {
         let [dx, dy, dz] = [d.x, d.y, d.z].map(Lanes::splat);
         let a = Lanes::splat(d.dot(d));
         let slack = Lanes::splat(1.0 + gamma(8));
-        closest_hits_prefiltered(prims, refs, ray, &(), t_min, t_max, keep, |four| {
+        closest_hits_prefiltered(prims, shared, refs, ray, &(), t_min, t_max, keep, |four| {
             let c = LaneMat::from_cols_array_2d(
                 &four.map(|s| [s.center.x, s.center.y, s.center.z, s.radius]),
             )
@@ -162,7 +166,7 @@ impl Primitive for Sphere {
     /// Arvo's test: the squared distance from the centre to the box, against
     /// r² with a margin for rounding (never `false` for a touching box).
     #[inline]
-    fn overlaps_box(&self, cell: &Aabb) -> bool {
+    fn overlaps_box(&self, _: &(), cell: &Aabb) -> bool {
         if cell.is_empty() {
             return false;
         }
@@ -226,11 +230,14 @@ mod tests {
         // The corner cube near (1,1,1): its nearest point is at distance
         // 0.9·√3 ≈ 1.56 > 1, though its box overlaps the sphere's bounds.
         let cell = Aabb::new(Vec3::splat(0.9), Vec3::splat(2.0));
-        assert!(s.bounds().overlaps(&cell));
-        assert!(!s.overlaps_box(&cell));
-        assert!(s.overlaps_box(&Aabb::new(Vec3::new(1.0, -1.0, -1.0), Vec3::splat(2.0))));
-        assert!(s.overlaps_box(&Aabb::new(Vec3::splat(-0.1), Vec3::splat(0.1))));
-        assert!(!s.overlaps_box(&Aabb::EMPTY));
+        assert!(s.bounds(&()).overlaps(&cell));
+        assert!(!s.overlaps_box(&(), &cell));
+        assert!(s.overlaps_box(
+            &(),
+            &Aabb::new(Vec3::new(1.0, -1.0, -1.0), Vec3::splat(2.0))
+        ));
+        assert!(s.overlaps_box(&(), &Aabb::new(Vec3::splat(-0.1), Vec3::splat(0.1))));
+        assert!(!s.overlaps_box(&(), &Aabb::EMPTY));
     }
 
     #[test]
@@ -262,10 +269,10 @@ mod tests {
             t_max
         };
         if batched {
-            Sphere::closest_hits(spheres, refs, ray, &(), 0.0, t_max, &mut keep);
+            Sphere::closest_hits(spheres, &(), refs, ray, &(), 0.0, t_max, &mut keep);
         } else {
             for &r in refs {
-                if let Some(h) = spheres[r as usize].closest_hit(ray, &(), 0.0, t_max) {
+                if let Some(h) = spheres[r as usize].closest_hit(&(), ray, &(), 0.0, t_max) {
                     keep(r, h);
                 }
             }

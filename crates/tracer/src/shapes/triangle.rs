@@ -38,7 +38,7 @@ use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primi
 /// let ray = Ray::new(Vec3::new(0.25, 0.5, 1.0), -Vec3::Z);
 /// let shear = Triangle::ray_data(&ray); // once per ray: `Shear::new(&ray)`
 /// assert_eq!(shear, Shear::new(&ray));
-/// let h = tri.closest_hit(&ray, &shear, 0.0, Real::INFINITY).unwrap();
+/// let h = tri.closest_hit(&(), &ray, &shear, 0.0, Real::INFINITY).unwrap();
 /// assert_eq!((h.t, h.u, h.v), (1.0, 0.25, 0.5));
 /// assert_eq!(tri.vertices(), [Vec3::ZERO, Vec3::X, Vec3::Y]);
 /// ```
@@ -56,13 +56,14 @@ impl Triangle {
     #[inline]
     #[must_use]
     pub fn new(p0: Vec3, p1: Vec3, p2: Vec3) -> Self {
-        let mut t = Self {
-            c: [p0.x, p1.x, p2.x, p0.y, p1.y, p2.y, p0.z, p1.z, p2.z, 0.0],
+        let d = if area_normal_f64([p0, p1, p2]) == glam::DVec3::ZERO {
+            1.0
+        } else {
+            0.0
         };
-        if t.area_normal_f64() == glam::DVec3::ZERO {
-            t.c[9] = 1.0;
+        Self {
+            c: [p0.x, p1.x, p2.x, p0.y, p1.y, p2.y, p0.z, p1.z, p2.z, d],
         }
-        t
     }
 
     /// The vertices `[p0, p1, p2]`.
@@ -87,18 +88,8 @@ impl Triangle {
     #[must_use]
     #[allow(clippy::cast_possible_truncation)] // the rounding to `f32` is the point
     pub fn area_normal(&self) -> Vec3 {
-        let n = self.area_normal_f64();
+        let n = area_normal_f64(self.vertices());
         Vec3::new(n.x as Real, n.y as Real, n.z as Real)
-    }
-
-    /// [`Self::area_normal`] before its rounding to [`Real`].
-    #[inline]
-    #[allow(clippy::useless_conversion)] // a conversion in the `f32` build
-    fn area_normal_f64(&self) -> glam::DVec3 {
-        let [p0, p1, p2] = self
-            .vertices()
-            .map(|p| glam::DVec3::new(f64::from(p.x), f64::from(p.y), f64::from(p.z)));
-        (p1 - p0).cross(p2 - p0)
     }
 
     /// Whether the triangle has zero area (its vertices are collinear), in
@@ -123,49 +114,80 @@ impl Triangle {
     #[inline]
     #[must_use]
     pub fn intersect(&self, shear: &Shear, t_min: Real, t_max: Real) -> Option<PrimHit> {
-        use glam::Vec4Swizzles;
-        // The vertices relative to the origin, permuted and sheared: lane i
-        // of x, y, z is vertex i. z stays unscaled until a hit needs it.
-        let [kx, ky, kz] = shear.axes;
-        let [ox, oy, oz] = shear.origin;
-        let [sx, sy] = shear.s_lanes;
-        let sz = shear.s[2];
-        let z = self.lanes(kz) - oz;
-        let x = (self.lanes(kx) - ox) - sx * z;
-        let y = (self.lanes(ky) - oy) - sy * z;
-        // Scaled barycentrics, the 2D edge functions: lane 0 is
-        // cx·by − cy·bx, lane 1 ax·cy − ay·cx, lane 2 bx·ay − by·ax.
-        let e = x.zxyw() * y.yzxw() - y.zxyw() * x.yzxw();
-        // Lanes 0..3 of a comparison mask (lane 3 holds no vertex).
-        let any3 = |mask: u32| mask & 7 != 0;
-        // Inside means all three of one sign (zeros allowed: edges count).
-        // Rounding is monotonic, so a product difference rounds to its
-        // true sign or to zero, never to the other sign: an edge function
-        // of each sign rejects the triangle for certain.
-        if any3(e.cmplt(Lanes::ZERO).bitmask()) && any3(e.cmpgt(Lanes::ZERO).bitmask()) {
-            return None;
-        }
-        let (t, u, v) = hit_from_edges(x, y, z, sz, e)?;
-        // Only `t > 0` and the caller's range: no rejection by an error bound
-        // on `t`. Such a bound (pbrt-v4 §6.8.4) grows with the triangle's
-        // extent over its projected area and, written with world-unit x, y
-        // beside t-unit z, with the inverse of the direction's length; it
-        // rejected true hits on slivers, on short directions and in small
-        // scenes, and those rays then fell through closed meshes. When every
-        // vertex lies ahead of the origin (all z > 0) the sum above has
-        // terms of one sign and `t > 0` (unless the products underflow), so no hit in front of the
-        // origin is lost; a surface the ray starts on is left by offsetting
-        // the origin (`offset_ray_origin`), not by an epsilon here.
-        if !(t > 0.0 && t >= t_min && t <= t_max) {
-            return None;
-        }
-        // A zero-area triangle can pass the sign test through rounding of
-        // the (nearly cancelling) edge functions; it never hits.
-        if self.is_degenerate() {
-            return None;
-        }
-        Some(PrimHit::new(t, u, v))
+        intersect_lanes(
+            [0, 1, 2].map(|k| self.lanes(k)),
+            self.is_degenerate(),
+            shear,
+            t_min,
+            t_max,
+        )
     }
+}
+
+/// [`Triangle::area_normal`] of the triangle `p` before its rounding to
+/// [`Real`]: zero exactly for a triangle of zero area.
+#[inline]
+#[allow(clippy::useless_conversion)] // a conversion in the `f32` build
+pub(super) fn area_normal_f64(p: [Vec3; 3]) -> glam::DVec3 {
+    let [p0, p1, p2] = p.map(|p| glam::DVec3::new(f64::from(p.x), f64::from(p.y), f64::from(p.z)));
+    (p1 - p0).cross(p2 - p0)
+}
+
+/// The watertight test of a triangle given coordinate by coordinate
+/// (`c[k]` holds coordinate `k` of the three vertices in lanes 0..3; lane
+/// 3 is never used), which never hits when `degenerate`: the test of
+/// [`Triangle::intersect`], shared with the mesh triangles, which gather
+/// their vertices into the same lanes.
+#[inline]
+pub(super) fn intersect_lanes(
+    c: [Lanes; 3],
+    degenerate: bool,
+    shear: &Shear,
+    t_min: Real,
+    t_max: Real,
+) -> Option<PrimHit> {
+    use glam::Vec4Swizzles;
+    // The vertices relative to the origin, permuted and sheared: lane i
+    // of x, y, z is vertex i. z stays unscaled until a hit needs it.
+    let [kx, ky, kz] = shear.axes;
+    let [ox, oy, oz] = shear.origin;
+    let [sx, sy] = shear.s_lanes;
+    let sz = shear.s[2];
+    let z = c[kz] - oz;
+    let x = (c[kx] - ox) - sx * z;
+    let y = (c[ky] - oy) - sy * z;
+    // Scaled barycentrics, the 2D edge functions: lane 0 is
+    // cx·by − cy·bx, lane 1 ax·cy − ay·cx, lane 2 bx·ay − by·ax.
+    let e = x.zxyw() * y.yzxw() - y.zxyw() * x.yzxw();
+    // Lanes 0..3 of a comparison mask (lane 3 holds no vertex).
+    let any3 = |mask: u32| mask & 7 != 0;
+    // Inside means all three of one sign (zeros allowed: edges count).
+    // Rounding is monotonic, so a product difference rounds to its
+    // true sign or to zero, never to the other sign: an edge function
+    // of each sign rejects the triangle for certain.
+    if any3(e.cmplt(Lanes::ZERO).bitmask()) && any3(e.cmpgt(Lanes::ZERO).bitmask()) {
+        return None;
+    }
+    let (t, u, v) = hit_from_edges(x, y, z, sz, e)?;
+    // Only `t > 0` and the caller's range: no rejection by an error bound
+    // on `t`. Such a bound (pbrt-v4 §6.8.4) grows with the triangle's
+    // extent over its projected area and, written with world-unit x, y
+    // beside t-unit z, with the inverse of the direction's length; it
+    // rejected true hits on slivers, on short directions and in small
+    // scenes, and those rays then fell through closed meshes. When every
+    // vertex lies ahead of the origin (all z > 0) the sum above has
+    // terms of one sign and `t > 0` (unless the products underflow), so no hit in front of the
+    // origin is lost; a surface the ray starts on is left by offsetting
+    // the origin (`offset_ray_origin`), not by an epsilon here.
+    if !(t > 0.0 && t >= t_min && t <= t_max) {
+        return None;
+    }
+    // A zero-area triangle can pass the sign test through rounding of
+    // the (nearly cancelling) edge functions; it never hits.
+    if degenerate {
+        return None;
+    }
+    Some(PrimHit::new(t, u, v))
 }
 
 /// `(t, u, v)` of a ray that passed the sign test, from the sheared
@@ -252,6 +274,9 @@ fn hit_from_edges(x: Lanes, y: Lanes, z: Lanes, sz: Real, e: Lanes) -> Option<(R
 }
 
 impl Primitive for Triangle {
+    /// Nothing shared: the primitive holds all it needs.
+    type Shared = ();
+
     /// The ray's shear frame.
     type RayData = Shear;
 
@@ -261,13 +286,20 @@ impl Primitive for Triangle {
     }
 
     #[inline]
-    fn bounds(&self) -> Aabb {
+    fn bounds(&self, _: &()) -> Aabb {
         let [p0, p1, p2] = self.vertices();
         Aabb::new(p0.min(p1).min(p2), p0.max(p1).max(p2))
     }
 
     #[inline]
-    fn closest_hit(&self, _: &Ray, shear: &Shear, t_min: Real, t_max: Real) -> Option<PrimHit> {
+    fn closest_hit(
+        &self,
+        _: &(),
+        _: &Ray,
+        shear: &Shear,
+        t_min: Real,
+        t_max: Real,
+    ) -> Option<PrimHit> {
         self.intersect(shear, t_min, t_max)
     }
 
@@ -279,6 +311,7 @@ impl Primitive for Triangle {
     #[inline]
     fn closest_hits(
         prims: &[Self],
+        shared: &(),
         refs: &[u32],
         ray: &Ray,
         shear: &Shear,
@@ -286,9 +319,17 @@ impl Primitive for Triangle {
         t_max: Real,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
-        closest_hits_prefiltered(prims, refs, ray, shear, t_min, t_max, keep, |four| {
-            shear.triangles_may_hit(|k| four.map(|t| t.lanes(k)))
-        });
+        closest_hits_prefiltered(
+            prims,
+            shared,
+            refs,
+            ray,
+            shear,
+            t_min,
+            t_max,
+            keep,
+            |four| shear.triangles_may_hit(|k| four.map(|t| t.lanes(k))),
+        );
     }
 
     /// Four triangles at a time, rejected by their edge functions in lanes
@@ -296,13 +337,14 @@ impl Primitive for Triangle {
     #[inline]
     fn any_hits(
         prims: &[Self],
+        shared: &(),
         refs: &[u32],
         ray: &Ray,
         shear: &Shear,
         t_min: Real,
         t_max: Real,
     ) -> bool {
-        any_hits_prefiltered(prims, refs, ray, shear, t_min, t_max, |four| {
+        any_hits_prefiltered(prims, shared, refs, ray, shear, t_min, t_max, |four| {
             shear.triangles_may_hit(|k| four.map(|t| t.lanes(k)))
         })
     }
@@ -310,7 +352,7 @@ impl Primitive for Triangle {
     /// The separating-axis test of Akenine-Möller (2001), with a rounding
     /// margin so that a touching box is never rejected.
     #[inline]
-    fn overlaps_box(&self, cell: &Aabb) -> bool {
+    fn overlaps_box(&self, _: &(), cell: &Aabb) -> bool {
         let [p0, p1, p2] = self.vertices();
         overlap::triangle_box(p0, p1, p2, cell)
     }
@@ -521,10 +563,10 @@ mod tests {
                     Real::INFINITY
                 };
                 if batched {
-                    Triangle::closest_hits(&tris, &refs, &r, &shear, 0.0, Real::INFINITY, &mut keep);
+                    Triangle::closest_hits(&tris, &(), &refs, &r, &shear, 0.0, Real::INFINITY, &mut keep);
                 } else {
                     for (i, t) in tris.iter().enumerate() {
-                        if let Some(h) = t.closest_hit(&r, &shear, 0.0, Real::INFINITY) {
+                        if let Some(h) = t.closest_hit(&(), &r, &shear, 0.0, Real::INFINITY) {
                             keep(i as u32, h);
                         }
                     }
@@ -535,8 +577,8 @@ mod tests {
             // Shadow rays: the batched any-hit answers as one at a time,
             // over the segment up to each hit and beyond.
             for t_max in [Real::INFINITY, 5.0, 4.5] {
-                let one = tris.iter().any(|t| t.any_hit(&r, &shear, 0.0, t_max));
-                proptest::prop_assert_eq!(Triangle::any_hits(&tris, &refs, &r, &shear, 0.0, t_max), one);
+                let one = tris.iter().any(|t| t.any_hit(&(), &r, &shear, 0.0, t_max));
+                proptest::prop_assert_eq!(Triangle::any_hits(&tris, &(), &refs, &r, &shear, 0.0, t_max), one);
             }
         }
 
@@ -563,19 +605,19 @@ mod tests {
             let r = Ray::new(origin, target - origin);
             let shear = Shape::ray_data(&r);
             let mut batched = Vec::new();
-            Shape::closest_hits(&shapes, &refs, &r, &shear, 0.0, Real::INFINITY, &mut |i, h| {
+            Shape::closest_hits(&shapes, &(), &refs, &r, &shear, 0.0, Real::INFINITY, &mut |i, h| {
                 batched.push((i, h));
                 Real::INFINITY
             });
             let one: Vec<(u32, PrimHit)> = shapes
                 .iter()
                 .enumerate()
-                .filter_map(|(i, s)| s.closest_hit(&r, &shear, 0.0, Real::INFINITY).map(|h| (i as u32, h)))
+                .filter_map(|(i, s)| s.closest_hit(&(), &r, &shear, 0.0, Real::INFINITY).map(|h| (i as u32, h)))
                 .collect();
             proptest::prop_assert_eq!(batched, one);
             for t_max in [Real::INFINITY, 5.0, 4.5] {
-                let one = shapes.iter().any(|s| s.any_hit(&r, &shear, 0.0, t_max));
-                proptest::prop_assert_eq!(Shape::any_hits(&shapes, &refs, &r, &shear, 0.0, t_max), one);
+                let one = shapes.iter().any(|s| s.any_hit(&(), &r, &shear, 0.0, t_max));
+                proptest::prop_assert_eq!(Shape::any_hits(&shapes, &(), &refs, &r, &shear, 0.0, t_max), one);
             }
         }
     }

@@ -29,7 +29,7 @@ pub const MT_EPSILON: Real = 1e-6;
 /// use gridrt_grid::{Primitive, Ray, Real, Vec3};
 /// let tri = MtTriangle(Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y));
 /// let ray = Ray::new(Vec3::new(0.25, 0.5, 1.0), -Vec3::Z);
-/// let h = tri.closest_hit(&ray, &(), 0.0, Real::INFINITY).unwrap();
+/// let h = tri.closest_hit(&(), &ray, &(), 0.0, Real::INFINITY).unwrap();
 /// assert_eq!((h.t, h.u, h.v), (1.0, 0.25, 0.5));
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -71,6 +71,9 @@ impl MtTriangle {
 }
 
 impl Primitive for MtTriangle {
+    /// Nothing shared: the primitive holds all it needs.
+    type Shared = ();
+
     /// Nothing is computed once per ray.
     type RayData = ();
 
@@ -78,18 +81,18 @@ impl Primitive for MtTriangle {
     fn ray_data(_: &Ray) {}
 
     #[inline]
-    fn bounds(&self) -> Aabb {
-        self.0.bounds()
+    fn bounds(&self, _: &()) -> Aabb {
+        self.0.bounds(&())
     }
 
     #[inline]
-    fn closest_hit(&self, ray: &Ray, _: &(), t_min: Real, t_max: Real) -> Option<PrimHit> {
+    fn closest_hit(&self, _: &(), ray: &Ray, _: &(), t_min: Real, t_max: Real) -> Option<PrimHit> {
         self.intersect(ray, t_min, t_max)
     }
 
     #[inline]
-    fn overlaps_box(&self, cell: &Aabb) -> bool {
-        self.0.overlaps_box(cell)
+    fn overlaps_box(&self, _: &(), cell: &Aabb) -> bool {
+        self.0.overlaps_box(&(), cell)
     }
 }
 

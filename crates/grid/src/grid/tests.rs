@@ -1,0 +1,126 @@
+//! Unit tests of the grid's queries against the exhaustive baseline.
+
+use super::*;
+use crate::{Exhaustive, PrimHit};
+use gridrt_bbox::Vec3;
+
+/// A ball, just enough for these tests.
+#[derive(Clone, Debug)]
+struct Ball(Vec3, Real);
+
+impl Primitive for Ball {
+    type Shared = ();
+    type RayData = ();
+    fn ray_data(_: &Ray) {}
+    fn bounds(&self, _: &()) -> Aabb {
+        Aabb::new(self.0 - Vec3::splat(self.1), self.0 + Vec3::splat(self.1))
+    }
+    fn closest_hit(&self, _: &(), ray: &Ray, _: &(), t0: Real, t1: Real) -> Option<PrimHit> {
+        let oc = ray.origin - self.0;
+        let (a, b, c) = (
+            ray.dir.dot(ray.dir),
+            oc.dot(ray.dir),
+            oc.dot(oc) - self.1 * self.1,
+        );
+        let disc = b * b - a * c;
+        if disc < 0.0 {
+            return None;
+        }
+        let s = disc.sqrt();
+        [(-b - s) / a, (-b + s) / a]
+            .into_iter()
+            .find(|t| (t0..=t1).contains(t))
+            .map(|t| PrimHit::new(t, 0.0, 0.0))
+    }
+}
+
+fn lcg(s: &mut u64) -> Real {
+    *s = s
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    (*s >> 40) as Real / (1u64 << 24) as Real
+}
+
+#[test]
+fn mailbox_ids_wrap_around_safely() {
+    let mut s = GridScratch::default();
+    assert_eq!(s.begin(3), 1);
+    s.stamps[1] = 1;
+    s.ray = u32::MAX;
+    // The id wraps to 0, which would match fresh stamps: all are cleared.
+    s.stamps[2] = u32::MAX;
+    assert_eq!(s.begin(3), 1);
+    assert_eq!(s.stamps, vec![0, 0, 0]);
+    // A scratch sized for other primitives is resized and reset.
+    assert_eq!(s.begin(5), 1);
+    assert_eq!(s.stamps.len(), 5);
+}
+
+#[test]
+fn sparse_scenes_skip_empty_blocks_and_stay_exact() {
+    // Clusters of balls far apart: most blocks of the grid are empty.
+    let mut seed = 1;
+    let mut prims = Vec::new();
+    for c in 0..6 {
+        let centre = Vec3::new(
+            c as Real * 7.0 - 20.0,
+            (c % 3) as Real * 9.0 - 9.0,
+            (c % 2) as Real * 11.0,
+        );
+        for _ in 0..80 {
+            let p = centre + Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed));
+            prims.push(Ball(p, 0.02 + 0.05 * lcg(&mut seed)));
+        }
+    }
+    let e = Exhaustive::new(prims.clone());
+    for storage in [CellStorage::Dense, CellStorage::Hashed] {
+        for mailbox in [false, true] {
+            let g = Grid::build(
+                prims.clone(),
+                &GridConfig {
+                    storage,
+                    mailbox,
+                    m: 3.0,
+                    ..GridConfig::default()
+                },
+            );
+            assert!(g.blocks.useful, "the walk should skip empty blocks here");
+            g.check_invariants().expect("invariants");
+            let mut sc = g.scratch();
+            let mut hits = 0;
+            for i in 0..3000 {
+                let o = Vec3::new(
+                    lcg(&mut seed) * 60.0 - 30.0,
+                    lcg(&mut seed) * 40.0 - 20.0,
+                    lcg(&mut seed) * 40.0 - 15.0,
+                );
+                let target = prims[i % prims.len()].0
+                    + Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 0.2;
+                let r = Ray::new(o, target - o);
+                let want = e.closest_hit(&r, 0.0, Real::INFINITY, &mut ());
+                assert_eq!(g.closest_hit(&r, 0.0, Real::INFINITY, &mut sc), want);
+                assert_eq!(
+                    g.any_hit(&r, 0.0, 0.9, &mut sc),
+                    e.any_hit(&r, 0.0, 0.9, &mut ())
+                );
+                hits += usize::from(want.is_some());
+            }
+            assert!(hits > 1000, "{hits}");
+        }
+    }
+}
+
+#[test]
+fn dense_scenes_walk_every_cell() {
+    let mut seed = 3;
+    let prims: Vec<Ball> = (0..2000)
+        .map(|_| {
+            Ball(
+                Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)),
+                0.02,
+            )
+        })
+        .collect();
+    let g = Grid::build(prims, &GridConfig::default());
+    assert!(!g.blocks.useful);
+}

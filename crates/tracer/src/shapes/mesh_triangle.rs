@@ -1,0 +1,386 @@
+//! Triangles that refer to a shared vertex array: the grid primitive of
+//! meshes when memory matters more than the last few percent of speed.
+
+use super::triangle::{area_normal_f64, intersect_lanes};
+use super::{overlap, Shear};
+use gridrt_bbox::math::{LaneMat, Lanes};
+use gridrt_bbox::{Aabb, Ray, Real, Vec3};
+use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primitive};
+
+/// The vertex positions that [`MeshTriangle`]s refer to: the
+/// [`Primitive::Shared`] of a grid of them, stored once beside it.
+///
+/// Each position takes one 4-lane vector (`x, y, z, 0`), so that the
+/// triangle test loads a vertex in one aligned load.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshVertices(Vec<Lanes>);
+
+impl MeshVertices {
+    /// The vertex array of `positions`.
+    #[must_use]
+    pub fn new(positions: impl IntoIterator<Item = Vec3>) -> Self {
+        Self(
+            positions
+                .into_iter()
+                .map(|p| Lanes::new(p.x, p.y, p.z, 0.0))
+                .collect(),
+        )
+    }
+
+    /// How many vertices there are.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    /// Whether there is none.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// Vertex `i`.
+    ///
+    /// # Panics
+    ///
+    /// If there is no vertex `i`.
+    #[inline(always)]
+    #[must_use]
+    pub fn get(&self, i: u32) -> Vec3 {
+        self.0[i as usize].truncate()
+    }
+
+    /// Vertex `i` as `(x, y, z, 0)`.
+    #[inline(always)]
+    fn lanes(&self, i: u32) -> Lanes {
+        self.0[i as usize]
+    }
+
+    /// Bytes of the array.
+    #[must_use]
+    pub fn bytes(&self) -> usize {
+        self.0.len() * std::mem::size_of::<Lanes>()
+    }
+
+    /// The vertices in the order in which `tris`, taken in `order` (a
+    /// permutation of their indices, such as
+    /// [`spatial_order`](gridrt_grid::spatial_order)), first use them,
+    /// with the triangles' indices rewritten to match; unused vertices are
+    /// dropped. Returns the new array and the new index of each old vertex
+    /// (`u32::MAX` for a dropped one), for whatever else is kept per
+    /// vertex (normals, texture coordinates).
+    ///
+    /// In a spatial order, the vertices of neighbouring triangles end up
+    /// side by side, so that the triangles of one grid cell load few
+    /// cache lines, whatever order the file had.
+    ///
+    /// # Panics
+    ///
+    /// If a triangle does not belong to this array.
+    #[must_use]
+    pub fn renumber(&self, tris: &mut [MeshTriangle], order: &[u32]) -> (Self, Vec<u32>) {
+        let mut new_of = vec![u32::MAX; self.0.len()];
+        let mut out = Vec::with_capacity(self.0.len());
+        for &t in order {
+            let t = &mut tris[t as usize];
+            let flag = t.v[0] & DEGENERATE;
+            let v = t.indices().map(|i| {
+                let n = &mut new_of[i as usize];
+                if *n == u32::MAX {
+                    *n = out.len() as u32;
+                    out.push(self.0[i as usize]);
+                }
+                *n
+            });
+            t.v = [v[0] | flag, v[1], v[2]];
+        }
+        (Self(out), new_of)
+    }
+}
+
+/// A triangle given by the indices of its vertices in a [`MeshVertices`]
+/// (12 bytes, where a [`Triangle`](super::Triangle) holds its own 40):
+/// the triangle of pbrt-v4 and of Embree's indexed meshes.
+///
+/// Its ray test is the watertight test of [`Triangle`](super::Triangle),
+/// bit for bit: the vertices are gathered into the same lanes and go
+/// through the same operations, so a grid of mesh triangles answers
+/// exactly what a grid of their copies does. Zero-area triangles never
+/// hit; they are recognised once, when the triangle is made.
+///
+/// ```
+/// use gridrt_grid::{Accelerator, Grid, GridConfig, Ray, Real, Vec3};
+/// use gridrt_tracer::{MeshTriangle, MeshVertices};
+/// // A unit square of two triangles sharing an edge.
+/// let verts = MeshVertices::new([Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y]);
+/// let tris = MeshTriangle::from_indices(&verts, &[[0, 1, 2], [0, 2, 3]]).unwrap();
+/// let grid = Grid::build_shared(tris, verts, &GridConfig::default());
+/// let ray = Ray::new(Vec3::new(0.25, 0.5, 1.0), -Vec3::Z);
+/// let hit = grid.closest_hit(&ray, 0.0, Real::INFINITY, &mut grid.scratch()).unwrap();
+/// assert_eq!((hit.prim, hit.t), (1, 1.0));
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MeshTriangle {
+    /// The vertex indices; the top bit of the first is set when the
+    /// triangle has zero area.
+    v: [u32; 3],
+}
+
+/// The bit of `MeshTriangle::v[0]` that marks a zero-area triangle.
+const DEGENERATE: u32 = 1 << 31;
+
+impl MeshTriangle {
+    /// The most vertices a mesh of them may have (one bit of the first
+    /// index marks zero-area triangles).
+    pub const MAX_VERTICES: usize = DEGENERATE as usize;
+
+    /// The triangle with vertices `v` of `verts`, or `None` if an index is
+    /// out of range or the array has more than [`Self::MAX_VERTICES`].
+    #[must_use]
+    pub fn new(verts: &MeshVertices, v: [u32; 3]) -> Option<Self> {
+        if verts.len() > Self::MAX_VERTICES || v.iter().any(|&i| i as usize >= verts.len()) {
+            return None;
+        }
+        let flat = area_normal_f64(v.map(|i| verts.get(i))) == glam::DVec3::ZERO;
+        let mut v = v;
+        if flat {
+            v[0] |= DEGENERATE;
+        }
+        Some(Self { v })
+    }
+
+    /// The triangles of an index array, or `None` if an index is out of
+    /// range (see [`Self::new`]).
+    #[must_use]
+    pub fn from_indices(verts: &MeshVertices, indices: &[[u32; 3]]) -> Option<Vec<Self>> {
+        indices.iter().map(|&v| Self::new(verts, v)).collect()
+    }
+
+    /// The vertex indices.
+    #[inline]
+    #[must_use]
+    pub fn indices(&self) -> [u32; 3] {
+        [self.v[0] & !DEGENERATE, self.v[1], self.v[2]]
+    }
+
+    /// The vertices, from the array the triangle was made with.
+    #[inline]
+    #[must_use]
+    pub fn vertices(&self, verts: &MeshVertices) -> [Vec3; 3] {
+        self.indices().map(|i| verts.get(i))
+    }
+
+    /// Whether the triangle has zero area (then it is never hit).
+    #[inline]
+    #[must_use]
+    pub fn is_degenerate(&self) -> bool {
+        self.v[0] & DEGENERATE != 0
+    }
+
+    /// Vertex `i` (0, 1 or 2) as `(x, y, z, 0)`.
+    #[inline(always)]
+    fn vertex_lanes(&self, verts: &MeshVertices, i: usize) -> Lanes {
+        let mask = if i == 0 { !DEGENERATE } else { u32::MAX };
+        verts.lanes(self.v[i] & mask)
+    }
+
+    /// Vertex `i` of each of `four` as `(x, y, z, 0)`: written out, since
+    /// `array::map` can stay a call in the hot loop.
+    #[inline(always)]
+    fn four_vertex_lanes(four: [&Self; 4], verts: &MeshVertices, i: usize) -> [Lanes; 4] {
+        [
+            four[0].vertex_lanes(verts, i),
+            four[1].vertex_lanes(verts, i),
+            four[2].vertex_lanes(verts, i),
+            four[3].vertex_lanes(verts, i),
+        ]
+    }
+}
+
+impl Primitive for MeshTriangle {
+    /// The vertex array.
+    type Shared = MeshVertices;
+
+    /// The ray's shear frame.
+    type RayData = Shear;
+
+    #[inline]
+    fn ray_data(ray: &Ray) -> Shear {
+        Shear::new(ray)
+    }
+
+    #[inline]
+    fn bounds(&self, verts: &MeshVertices) -> Aabb {
+        let [p0, p1, p2] = self.vertices(verts);
+        Aabb::new(p0.min(p1).min(p2), p0.max(p1).max(p2))
+    }
+
+    /// [`Triangle::intersect`](super::Triangle::intersect) on the gathered
+    /// vertices.
+    #[inline]
+    fn closest_hit(
+        &self,
+        verts: &MeshVertices,
+        _: &Ray,
+        shear: &Shear,
+        t_min: Real,
+        t_max: Real,
+    ) -> Option<PrimHit> {
+        let [a, b, c] = [0, 1, 2].map(|i| self.vertex_lanes(verts, i));
+        let m = LaneMat::from_cols(a, b, c, Lanes::ZERO).transpose();
+        let coords = [m.x_axis, m.y_axis, m.z_axis];
+        intersect_lanes(coords, self.is_degenerate(), shear, t_min, t_max)
+    }
+
+    /// Four at a time, rejected by their edge functions in lanes as
+    /// [`Triangle`](super::Triangle)'s are, from the vertices gathered
+    /// four by four.
+    #[inline]
+    fn closest_hits(
+        prims: &[Self],
+        verts: &MeshVertices,
+        refs: &[u32],
+        ray: &Ray,
+        shear: &Shear,
+        t_min: Real,
+        t_max: Real,
+        keep: &mut impl FnMut(u32, PrimHit) -> Real,
+    ) {
+        closest_hits_prefiltered(prims, verts, refs, ray, shear, t_min, t_max, keep, |four| {
+            shear.triangles_may_hit_by_vertex(|i| Self::four_vertex_lanes(four, verts, i))
+        });
+    }
+
+    /// Four at a time, as in `closest_hits`.
+    #[inline]
+    fn any_hits(
+        prims: &[Self],
+        verts: &MeshVertices,
+        refs: &[u32],
+        ray: &Ray,
+        shear: &Shear,
+        t_min: Real,
+        t_max: Real,
+    ) -> bool {
+        any_hits_prefiltered(prims, verts, refs, ray, shear, t_min, t_max, |four| {
+            shear.triangles_may_hit_by_vertex(|i| Self::four_vertex_lanes(four, verts, i))
+        })
+    }
+
+    #[inline]
+    fn overlaps_box(&self, verts: &MeshVertices, cell: &Aabb) -> bool {
+        let [p0, p1, p2] = self.vertices(verts);
+        overlap::triangle_box(p0, p1, p2, cell)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::Triangle;
+    use gridrt_grid::{Accelerator, Exhaustive, Grid, GridConfig};
+    use proptest::prelude::*;
+
+    #[test]
+    fn renumbering_follows_first_use_and_keeps_the_triangles() {
+        // Vertex 5 is used by no triangle.
+        let verts = MeshVertices::new([Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::ONE, Vec3::Z, -Vec3::X]);
+        let mut tris =
+            MeshTriangle::from_indices(&verts, &[[0, 1, 2], [3, 2, 1], [0, 1, 0]]).unwrap();
+        let before: Vec<_> = tris.iter().map(|t| t.vertices(&verts)).collect();
+        let (v2, new_of) = verts.renumber(&mut tris, &[1, 2, 0]);
+        assert_eq!(new_of, [3, 2, 1, 0, u32::MAX, u32::MAX]);
+        assert_eq!(v2.len(), 4);
+        assert_eq!(tris[1].indices(), [0, 1, 2]);
+        assert_eq!(tris[2].indices(), [3, 2, 3]);
+        assert!(tris[2].is_degenerate() && !tris[1].is_degenerate());
+        for (t, b) in tris.iter().zip(&before) {
+            assert_eq!(t.vertices(&v2), *b);
+        }
+    }
+
+    #[test]
+    fn bad_indices_are_refused_and_flat_triangles_marked() {
+        let verts = MeshVertices::new([Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::X * 2.0]);
+        assert_eq!(MeshTriangle::new(&verts, [0, 1, 4]), None);
+        let flat = MeshTriangle::new(&verts, [0, 1, 3]).unwrap();
+        assert!(flat.is_degenerate());
+        assert_eq!(flat.indices(), [0, 1, 3]);
+        let ok = MeshTriangle::new(&verts, [0, 1, 2]).unwrap();
+        assert!(!ok.is_degenerate());
+        assert_eq!(ok.vertices(&verts), [Vec3::ZERO, Vec3::X, Vec3::Y]);
+    }
+
+    /// A small mesh: a grid of `n`×`n` quads on a bumpy surface, two
+    /// triangles each, with the vertices at coordinates from `seed`.
+    fn bumpy(n: u32, scale: Real, offset: Real, seed: u64) -> (MeshVertices, Vec<[u32; 3]>) {
+        let mut s = seed;
+        let mut rnd = || {
+            s = s.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            (s >> 40) as Real / (1u64 << 24) as Real
+        };
+        let mut p = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                let h = rnd() * 0.3;
+                p.push(Vec3::new(i as Real, h, j as Real) * scale + Vec3::splat(offset));
+            }
+        }
+        let at = |i: u32, j: u32| j * (n + 1) + i;
+        let mut idx = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                idx.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                idx.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+        (MeshVertices::new(p), idx)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(48))]
+        /// A grid of mesh triangles answers exactly what the exhaustive
+        /// test of their copies answers, closest and any hit, for rays
+        /// from anywhere (through vertices and edges included).
+        #[test]
+        fn same_answers_as_copied_triangles(
+            seed in any::<u64>(),
+            scale in prop::sample::select(vec![1e-3 as Real, 1.0, 64.0]),
+            offset in prop::sample::select(vec![0.0 as Real, 1e4]),
+            rays in prop::collection::vec(
+                (prop::array::uniform3(-2.0 as Real..10.0), prop::array::uniform3(-1.0 as Real..1.0), any::<bool>()),
+                64,
+            ),
+        ) {
+            let (verts, idx) = bumpy(8, scale, offset, seed);
+            let copies: Vec<Triangle> = idx
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = t.map(|i| verts.get(i));
+                    Triangle::new(a, b, c)
+                })
+                .collect();
+            let mesh = MeshTriangle::from_indices(&verts, &idx).unwrap();
+            let flat = Exhaustive::with_shared(mesh.clone(), verts.clone());
+            let copied = Exhaustive::new(copies);
+            let grid = Grid::build_shared(mesh, verts.clone(), &GridConfig::default());
+            let mut sc = grid.scratch();
+            for (o, d, at_vertex) in rays {
+                let o = Vec3::from(o) * scale + Vec3::splat(offset);
+                // Half the rays aim at a vertex: the hardest case for ties.
+                let d = if at_vertex {
+                    verts.get((seed % verts.len() as u64) as u32) - o
+                } else {
+                    Vec3::from(d)
+                };
+                let ray = Ray::new(o, d);
+                let want = copied.closest_hit(&ray, 0.0, Real::INFINITY, &mut ());
+                prop_assert_eq!(flat.closest_hit(&ray, 0.0, Real::INFINITY, &mut ()), want);
+                prop_assert_eq!(grid.closest_hit(&ray, 0.0, Real::INFINITY, &mut sc), want);
+                let t = want.map_or(1.0, |h| h.t * 0.999);
+                let any = copied.any_hit(&ray, 0.0, t, &mut ());
+                prop_assert_eq!(grid.any_hit(&ray, 0.0, t, &mut sc), any);
+            }
+        }
+    }
+}
