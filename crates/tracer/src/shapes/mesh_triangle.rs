@@ -184,16 +184,20 @@ impl MeshTriangle {
         verts.lanes(self.v[i] & mask)
     }
 
-    /// Vertex `i` of each of `four` as `(x, y, z, 0)`: written out, since
-    /// `array::map` can stay a call in the hot loop.
+    /// Which of `four` the ray of `shear` may hit
+    /// ([`Shear::triangles_may_hit_by_vertex`]): the prefilter of
+    /// `closest_hits` and `any_hits`. The vertices are gathered written
+    /// out, since `array::map` can stay a call in the hot loop.
     #[inline(always)]
-    fn four_vertex_lanes(four: [&Self; 4], verts: &MeshVertices, i: usize) -> [Lanes; 4] {
-        [
-            four[0].vertex_lanes(verts, i),
-            four[1].vertex_lanes(verts, i),
-            four[2].vertex_lanes(verts, i),
-            four[3].vertex_lanes(verts, i),
-        ]
+    fn may_hit_four(four: [&Self; 4], verts: &MeshVertices, shear: &Shear) -> u32 {
+        shear.triangles_may_hit_by_vertex(|i| {
+            [
+                four[0].vertex_lanes(verts, i),
+                four[1].vertex_lanes(verts, i),
+                four[2].vertex_lanes(verts, i),
+                four[3].vertex_lanes(verts, i),
+            ]
+        })
     }
 }
 
@@ -247,7 +251,7 @@ impl Primitive for MeshTriangle {
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
         closest_hits_prefiltered(prims, verts, refs, ray, shear, t_min, t_max, keep, |four| {
-            shear.triangles_may_hit_by_vertex(|i| Self::four_vertex_lanes(four, verts, i))
+            Self::may_hit_four(four, verts, shear)
         });
     }
 
@@ -263,7 +267,7 @@ impl Primitive for MeshTriangle {
         t_max: Real,
     ) -> bool {
         any_hits_prefiltered(prims, verts, refs, ray, shear, t_min, t_max, |four| {
-            shear.triangles_may_hit_by_vertex(|i| Self::four_vertex_lanes(four, verts, i))
+            Self::may_hit_four(four, verts, shear)
         })
     }
 
