@@ -30,29 +30,99 @@ use gridrt_bbox::Aabb;
 /// ```
 #[must_use]
 pub fn spatial_order<P: Primitive>(prims: &[P], shared: &P::Shared) -> Vec<u32> {
-    let boxes: Vec<Aabb> = prims.iter().map(|p| p.bounds(shared)).collect();
-    let scene = boxes
+    // The boxes are computed twice rather than stored: the order is for
+    // large scenes, whose peak memory it should not raise.
+    let scene = prims
         .iter()
-        .filter(|b| crate::geom::is_gridded(b))
-        .fold(Aabb::EMPTY, |a, b| a.union(*b));
-    let ext = scene.extent();
-    let scale = ext.max_element();
-    let mut keyed: Vec<(u64, u32)> = boxes
+        .map(|p| p.bounds(shared))
+        .filter(crate::geom::is_gridded)
+        .fold(Aabb::EMPTY, |a, b| a.union(b));
+    let scale = scene.extent().max_element();
+    // The Morton code (30 bits) above the index: sorting the pairs as
+    // numbers orders by code, then index, with no buffer of its own.
+    let mut keyed: Vec<u64> = prims
         .iter()
         .enumerate()
-        .map(|(i, b)| {
-            if !crate::geom::is_gridded(b) {
-                return (u64::MAX, i as u32);
-            }
-            let q = if scale > 0.0 {
-                (b.centroid() - scene.min) / scale * 1023.0
+        .map(|(i, p)| {
+            let b = p.bounds(shared);
+            let code = if !crate::geom::is_gridded(&b) {
+                u32::MAX
             } else {
-                b.centroid() * 0.0
+                let q = if scale > 0.0 {
+                    (b.centroid() - scene.min) / scale * 1023.0
+                } else {
+                    b.centroid() * 0.0
+                };
+                let c = |x: gridrt_bbox::Real| x.clamp(0.0, 1023.0) as u32;
+                crate::morton::encode3(c(q.x), c(q.y), c(q.z)) as u32
             };
-            let c = |x: gridrt_bbox::Real| x.clamp(0.0, 1023.0) as u32;
-            (crate::morton::encode3(c(q.x), c(q.y), c(q.z)), i as u32)
+            (u64::from(code) << 32) | i as u64
         })
         .collect();
-    keyed.sort_by_key(|k| k.0);
-    keyed.into_iter().map(|k| k.1).collect()
+    keyed.sort_unstable();
+    keyed.into_iter().map(|k| k as u32).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{PrimHit, Ray, Real, Vec3};
+    use proptest::prelude::*;
+
+    #[derive(Debug)]
+    struct Dot(Vec3);
+
+    impl Primitive for Dot {
+        type Shared = ();
+        type RayData = ();
+        fn ray_data(_: &Ray) {}
+        fn bounds(&self, _: &()) -> Aabb {
+            Aabb::new(self.0, self.0)
+        }
+        fn closest_hit(&self, _: &(), _: &Ray, _: &(), _: Real, _: Real) -> Option<PrimHit> {
+            None
+        }
+    }
+
+    proptest! {
+        /// The order is a permutation that sorts by the Morton code of
+        /// the quantised centre, ties and unplaceable (NaN) dots in their
+        /// given order, the latter last.
+        #[test]
+        fn sorts_by_code_then_index(
+            dots in prop::collection::vec(
+                (0u8..8, 0u8..8, 0u8..8, prop::bool::weighted(0.1)),
+                0..200,
+            ),
+        ) {
+            let dots: Vec<Dot> = dots
+                .iter()
+                .map(|&(x, y, z, nan)| {
+                    let p = Vec3::new(x.into(), y.into(), z.into());
+                    Dot(if nan { Vec3::NAN } else { p })
+                })
+                .collect();
+            let order = spatial_order(&dots, &());
+            let mut seen = order.clone();
+            seen.sort_unstable();
+            prop_assert_eq!(seen, (0..dots.len() as u32).collect::<Vec<_>>());
+            let scale = dots
+                .iter()
+                .filter(|d| !d.0.is_nan())
+                .fold(Aabb::EMPTY, |a, d| a.union(d.bounds(&())));
+            let key = |i: u32| {
+                let p = dots[i as usize].0;
+                if p.is_nan() {
+                    return (u64::MAX, i);
+                }
+                let q = (p - scale.min) / scale.extent().max_element().max(Real::MIN_POSITIVE)
+                    * 1023.0;
+                let c = |x: Real| x.clamp(0.0, 1023.0) as u32;
+                (crate::morton::encode3(c(q.x), c(q.y), c(q.z)), i)
+            };
+            for w in order.windows(2) {
+                prop_assert!(key(w[0]) < key(w[1]), "{:?} before {:?}", key(w[0]), key(w[1]));
+            }
+        }
+    }
 }

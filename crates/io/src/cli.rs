@@ -7,7 +7,9 @@ use crate::cli_outputs::{
     pass_paths, render_part, render_watched, save_interrupted, stage_rendered, Rendered,
 };
 pub use crate::cli_outputs::{AovArgs, AovList, DiffArgs, MergeArgs, PartArgs, PartialArgs};
-pub use crate::cli_robustness::{IntersectArgs, OffsetArgs, SlabArg, TriangleTestArg};
+pub use crate::cli_robustness::{
+    IntersectArgs, OffsetArgs, SlabArg, TriangleTestArg, TrianglesArg,
+};
 use crate::cli_stats::{self, speed_text, Perf};
 pub use crate::cli_view::ViewArgs;
 use crate::error::{escape_control, Error, Result};
@@ -161,9 +163,6 @@ pub struct RaysArgs {
     /// Intersection tests and the grid's optional work.
     #[command(flatten)]
     pub intersect: IntersectArgs,
-    /// How the grid stores the triangles.
-    #[command(flatten)]
-    pub storage: crate::cli_rays::StorageArgs,
     /// File access and budgets.
     #[command(flatten)]
     pub access: AccessArgs,
@@ -410,6 +409,7 @@ fn put(out: &mut dyn Write, text: &str) {
 
 fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()> {
     // Everything that can be checked before rendering is checked first.
+    a.intersect.check()?;
     let format = check_image_path(&a.output)?;
     if a.part.spec().is_some() && format != crate::ImageFormat::Exr {
         return Err(Error::output(

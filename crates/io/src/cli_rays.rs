@@ -10,30 +10,12 @@ use crate::model::{load_model_in, Model};
 use crate::rays::{format_hits, parse_rays, trace_rays_on};
 use crate::RayQuery;
 use gridrt_grid::{Exhaustive, Grid, GridStats, Primitive, QueryCounters};
-use gridrt_tracer::{MeshTriangle, MeshVertices, MtTriangle, Triangle, TriangleTest};
+use gridrt_tracer::{
+    MeshTriangle, MeshVertices, MtTriangle, Triangle, TriangleStorage, TriangleTest,
+};
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-
-/// `gridrt rays --triangles`.
-#[derive(Debug, Clone, Copy, clap::Args)]
-pub struct StorageArgs {
-    /// How the grid stores the mesh's triangles: `copies` (each triangle
-    /// holds its three vertices: 40 bytes) or `indexed` (three indices
-    /// into the mesh's vertex array: 12 bytes, and each vertex once).
-    /// The answers are the same.
-    #[arg(long = "triangles", value_enum, default_value_t = TriangleStorage::Copies)]
-    pub triangles: TriangleStorage,
-}
-
-/// `--triangles` values.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum TriangleStorage {
-    /// Each triangle holds its vertices.
-    Copies,
-    /// Each triangle holds the indices of its vertices.
-    Indexed,
-}
 
 /// Runs `f(true)` in a thread pool of its own (`threads` workers, or one
 /// per core), or `f(false)` on this thread when no pool can be started (a
@@ -56,6 +38,7 @@ fn in_pool<R: Send>(threads: Option<u32>, f: impl FnOnce(bool) -> R + Send) -> R
 /// # Errors
 /// Any [`Error`] of loading, parsing or writing.
 pub(crate) fn rays(a: &RaysArgs, out: &mut dyn Write) -> Result<()> {
+    a.intersect.check()?;
     let mut outputs = Vec::new();
     if let Some(o) = &a.output {
         check_output_dir(o)?;
@@ -73,13 +56,7 @@ pub(crate) fn rays(a: &RaysArgs, out: &mut dyn Write) -> Result<()> {
     check_outputs(&outputs, &sandbox.files_read())?;
     let queries = parse_rays(&String::from_utf8_lossy(&bytes), &a.rays)?;
     let n_tris = model.triangle_count();
-    let indexed = a.storage.triangles == TriangleStorage::Indexed;
-    if indexed && a.intersect.triangle_test() != TriangleTest::Watertight {
-        return Err(Error::arg(
-            "--triangles",
-            "indexed needs the watertight --triangle-test",
-        ));
-    }
+    let indexed = a.intersect.triangle_storage() == TriangleStorage::Indexed;
     // The triangles in the form asked for; the model goes (the grid
     // keeps what it needs).
     let prims = match (indexed, a.intersect.triangle_test()) {

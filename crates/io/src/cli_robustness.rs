@@ -1,13 +1,14 @@
 //! The command-line switches that turn robustness off (`--triangle-test`,
-//! `--slab`, `--ray-offset`) and the grid's optional work (`--mailbox`,
-//! `--exact-insertion`), for `gridrt render` and `gridrt rays`. The
-//! defaults are the robust choices; docs/cli.md says what each switch
-//! risks.
+//! `--slab`, `--ray-offset`), the grid's optional work (`--mailbox`,
+//! `--exact-insertion`) and how it stores triangles (`--triangles`), for
+//! `gridrt render` and `gridrt rays`. The defaults are the robust choices;
+//! docs/cli.md says what each switch risks.
 
+use crate::error::{Error, Result};
 use clap::{Args, ValueEnum};
 use gridrt_bbox::{Real, SlabTest};
 use gridrt_grid::GridConfig;
-use gridrt_tracer::{RayOffset, RenderOptions, TriangleTest};
+use gridrt_tracer::{RayOffset, RenderOptions, TriangleStorage, TriangleTest};
 
 /// How rays meet primitives: shared by `render` and `rays`.
 #[derive(Debug, Clone, Copy, Args)]
@@ -31,6 +32,22 @@ pub struct IntersectArgs {
     /// overlaps. Changes no pixel; slower build; off by default.
     #[arg(long = "exact-insertion")]
     pub exact_insertion: bool,
+    /// How the grid stores a mesh's triangles: `copies` (default: each
+    /// triangle holds its three vertices, 40 bytes) or `indexed` (three
+    /// indices into one vertex array: 12 bytes, each vertex once, a
+    /// slower trace). Changes no pixel. Scenes with other shapes than
+    /// triangles keep copies.
+    #[arg(long, value_enum, default_value_t = TrianglesArg::Copies)]
+    pub triangles: TrianglesArg,
+}
+
+/// `--triangles` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum TrianglesArg {
+    /// Each triangle holds its vertices.
+    Copies,
+    /// Each triangle holds the indices of its vertices.
+    Indexed,
 }
 
 /// `--triangle-test` values.
@@ -108,11 +125,34 @@ impl IntersectArgs {
         }
     }
 
+    /// The library's triangle storage.
+    pub(crate) fn triangle_storage(&self) -> TriangleStorage {
+        match self.triangles {
+            TrianglesArg::Copies => TriangleStorage::Copies,
+            TrianglesArg::Indexed => TriangleStorage::Indexed,
+        }
+    }
+
+    /// Refuses switches that do not go together: indexed triangles have
+    /// only the watertight test.
+    pub(crate) fn check(&self) -> Result<()> {
+        if self.triangles == TrianglesArg::Indexed
+            && self.triangle_test() != TriangleTest::Watertight
+        {
+            return Err(Error::arg(
+                "--triangles",
+                "indexed needs the watertight --triangle-test",
+            ));
+        }
+        Ok(())
+    }
+
     /// The render options with these switches (and `offset`'s) applied.
     pub(crate) fn options(&self, o: RenderOptions, offset: &OffsetArgs) -> RenderOptions {
         RenderOptions {
             grid: self.grid(o.grid),
             triangle_test: self.triangle_test(),
+            triangles: self.triangle_storage(),
             ray_offset: offset.ray_offset,
             ..o
         }
@@ -134,6 +174,9 @@ impl IntersectArgs {
         }
         if self.exact_insertion {
             s.push("exact insertion".to_string());
+        }
+        if self.triangles == TrianglesArg::Indexed {
+            s.push("triangles indexed".to_string());
         }
         s.join(", ")
     }

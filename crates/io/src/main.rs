@@ -20,6 +20,11 @@ const EXIT_INTERRUPTED: u8 = 130;
 /// Raised by the Ctrl-C handler; polled by the renderer between tiles.
 static CANCEL: AtomicBool = AtomicBool::new(false);
 
+/// Bytes from which an allocation gets pages of its own (glibc's initial
+/// threshold, kept fixed).
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+const LARGE_ALLOCATION: libc::c_int = 128 * 1024;
+
 fn main() -> ExitCode {
     #[cfg(unix)]
     // SAFETY: setting SIGXFSZ to SIG_IGN installs no handler code; with it
@@ -27,6 +32,20 @@ fn main() -> ExitCode {
     // temporary file removed) instead of killing the process mid-write.
     unsafe {
         libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: mallopt only changes a tuning parameter of glibc's malloc,
+    // before any other thread exists.
+    //
+    // Large arrays (a mesh's vertices, a grid's cells) are then always
+    // mapped on their own and returned to the system when freed. By
+    // default glibc raises this threshold after the first such free, so
+    // the arrays freed while a scene loads stay in the main thread's heap
+    // while the renderer's threads allocate theirs in arenas of their
+    // own: 108 MiB instead of 91 MiB at the peak for the dragon on two
+    // threads.
+    unsafe {
+        libc::mallopt(libc::M_MMAP_THRESHOLD, LARGE_ALLOCATION);
     }
     match try_main() {
         Ok(()) => ExitCode::SUCCESS,

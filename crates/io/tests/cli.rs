@@ -358,6 +358,49 @@ fn rays_with_indexed_triangles_answer_as_copies() {
 }
 
 #[test]
+fn render_with_indexed_triangles_gives_the_same_image() {
+    let dir = tempfile::tempdir().unwrap();
+    for (k, mesh) in [
+        "meshes/teapot/teapot.obj",
+        "meshes/gltf_cesium_milk_truck/CesiumMilkTruck.glb",
+    ]
+    .iter()
+    .enumerate()
+    {
+        let mesh = fixture(mesh);
+        let run = |name: &str, extra: &[&str]| {
+            let out = format!("{k}-{name}.png");
+            let mut args = vec!["render", mesh.to_str().unwrap(), "-o", &out];
+            args.extend_from_slice(&["--width", "48", "--threads", "2"]);
+            args.extend_from_slice(extra);
+            let o = gridrt(&args, dir.path());
+            assert!(o.status.success(), "{}", stderr(&o));
+            (std::fs::read(dir.path().join(&out)).unwrap(), stdout(&o))
+        };
+        let (copies, _) = run("copies", &["--no-instancing"]);
+        let (indexed, summary) = run("indexed", &["--no-instancing", "--triangles", "indexed"]);
+        assert!(indexed == copies, "{mesh:?}");
+        assert!(summary.contains("triangles indexed"), "{summary}");
+        // Shared instances keep their own grids of copies.
+        let (shared, _) = run("shared", &["--triangles", "indexed"]);
+        assert!(shared == copies, "{mesh:?}");
+    }
+    let o = gridrt(
+        &[
+            "render",
+            fixture("meshes/teapot/teapot.obj").to_str().unwrap(),
+            "--triangles",
+            "indexed",
+            "--triangle-test",
+            "moller-trumbore",
+        ],
+        dir.path(),
+    );
+    assert_one_line_error(&o, "--triangles");
+    assert!(!dir.path().join("out.png").exists());
+}
+
+#[test]
 fn rays_number_gltf_triangles_in_node_order() {
     // Ray straight down onto the glass triangle (index 27) of hierarchy.gltf.
     let dir = tempfile::tempdir().unwrap();

@@ -2,8 +2,24 @@
 //! scene allows, and how the options build it.
 
 use crate::render::{AccelKind, RenderOptions};
-use crate::shapes::{Shape, Sphere, Triangle};
+use crate::shapes::{MeshTriangle, Shape, Sphere, Triangle};
 use gridrt_grid::{CellStorage, Exhaustive, Grid, GridConfig, GridStats, Primitive};
+
+/// How a renderer's accelerator stores the triangles of a scene made of
+/// meshes alone (other scenes hold [`Shape`]s). The images are the same.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TriangleStorage {
+    /// Each triangle holds its three vertices ([`Triangle`], 40 bytes in
+    /// `f32`): the fastest to trace.
+    #[default]
+    Copies,
+    /// Each triangle holds the indices of its vertices in one array of
+    /// the scene's vertices ([`MeshTriangle`], 12 bytes, and 16 bytes a
+    /// vertex): less memory for large meshes, a slower trace. Scenes of
+    /// more than [`MeshTriangle::MAX_VERTICES`] vertices, and the
+    /// Möller–Trumbore test, keep copies.
+    Indexed,
+}
 
 /// An accelerator over one primitive type.
 #[derive(Debug)]
@@ -22,6 +38,8 @@ macro_rules! with_accel {
             Accel::Spheres(AccelOf::Exhaustive($a)) => $body,
             Accel::Triangles(AccelOf::Grid($a)) => $body,
             Accel::Triangles(AccelOf::Exhaustive($a)) => $body,
+            Accel::Mesh(AccelOf::Grid($a)) => $body,
+            Accel::Mesh(AccelOf::Exhaustive($a)) => $body,
             Accel::Shapes(AccelOf::Grid($a)) => $body,
             Accel::Shapes(AccelOf::Exhaustive($a)) => $body,
         }
@@ -31,12 +49,15 @@ pub(crate) use with_accel;
 
 /// The accelerator of a prepared scene: spheres only get the compact
 /// [`Sphere`] primitive, mesh triangles only the [`Triangle`] (40 bytes a
-/// primitive, no tag to match), other scenes the [`Shape`] enum (48).
+/// primitive, no tag to match) or, with [`TriangleStorage::Indexed`], the
+/// [`MeshTriangle`] (12 bytes, over one shared vertex array), other scenes
+/// the [`Shape`] enum (48).
 #[derive(Debug)]
 #[allow(clippy::large_enum_variant)] // one per renderer
 pub(crate) enum Accel {
     Spheres(AccelOf<Sphere>),
     Triangles(AccelOf<Triangle>),
+    Mesh(AccelOf<MeshTriangle>),
     Shapes(AccelOf<Shape>),
 }
 
@@ -48,6 +69,8 @@ impl Accel {
             Accel::Spheres(AccelOf::Exhaustive(_)) => "exhaustive over spheres",
             Accel::Triangles(AccelOf::Grid(_)) => "grid of triangles",
             Accel::Triangles(AccelOf::Exhaustive(_)) => "exhaustive over triangles",
+            Accel::Mesh(AccelOf::Grid(_)) => "grid of indexed triangles",
+            Accel::Mesh(AccelOf::Exhaustive(_)) => "exhaustive over indexed triangles",
             Accel::Shapes(AccelOf::Grid(_)) => "grid of shapes",
             Accel::Shapes(AccelOf::Exhaustive(_)) => "exhaustive over shapes",
         }

@@ -597,7 +597,11 @@ where
         // The accelerator's own storage (a grid's cell order) holds
         // the primitive in `slot`; the per-primitive tables go by
         // primitive index.
-        let sp = self.accel.primitives()[h.slot as usize].surface(ray, &h.prim_hit());
+        let sp = self.accel.primitives()[h.slot as usize].surface(
+            self.accel.shared(),
+            ray,
+            &h.prim_hit(),
+        );
         let mut ns = sp.n;
         // Keep the shading normal on the geometric front side.
         if let Some(n) = tri.and_then(|t| Self::vertex_normal(t, h.u, h.v)?.try_normalize()) {

@@ -1,6 +1,7 @@
 //! From a [`Scene`] to what the renderer runs: validation, the primitives
 //! for the accelerator, and the shading data.
 
+use crate::accel_of::TriangleStorage;
 use crate::camera::CameraModel;
 use crate::emitters::EmitterShape;
 use crate::error::SceneError;
@@ -9,7 +10,9 @@ use crate::integrator::{DirectLight, MeshRef, MeshShading, PrimColors, PrimMater
 use crate::lights::{AreaLight, Environment};
 use crate::plan::{EffectPlan, IntegratorKind};
 use crate::scene::{Geometry, Light, Material, Mesh, Rgb, Scene, SphereSet};
-use crate::shapes::{Cuboid, Instance, MeshGrid, Plane, Shape, Sphere, Triangle};
+use crate::shapes::{
+    Cuboid, Instance, MeshGrid, MeshTriangle, MeshVertices, Plane, Shape, Sphere, Triangle,
+};
 use crate::texture::shade::TextureData;
 use crate::validate::validate;
 use gridrt_bbox::{Real, Vec3};
@@ -30,6 +33,9 @@ pub(crate) enum Prims {
     /// Mesh triangles only (meshes, flattened instances, planes aside):
     /// the compact type, with no enum tag.
     Triangles(Vec<Triangle>),
+    /// The same, as indices into one array of the meshes' vertices
+    /// ([`TriangleStorage::Indexed`]).
+    Mesh(MeshVertices, Vec<MeshTriangle>),
     Shapes(Vec<Shape>),
 }
 
@@ -39,6 +45,7 @@ impl Prims {
             Prims::Spheres(v) => v.len(),
             Prims::Set(s) => s.spheres.len(),
             Prims::Triangles(v) => v.len(),
+            Prims::Mesh(_, v) => v.len(),
             Prims::Shapes(v) => v.len(),
         }
     }
@@ -60,10 +67,12 @@ pub(crate) struct Prepared {
 /// Validates the scene and converts it. Triangles of zero area are left
 /// out of the grid (they can never be hit).
 /// `mesh_grid` builds the grids of shared meshes; `None` bakes every
-/// instance into world space.
+/// instance into world space. `storage` says how a scene of mesh
+/// triangles alone stores them.
 pub(crate) fn prepare(
     scene: &Scene,
     mesh_grid: Option<&GridConfig>,
+    storage: TriangleStorage,
 ) -> Result<Prepared, SceneError> {
     let shared = match mesh_grid {
         Some(_) => SharedMeshes::of(scene),
@@ -77,7 +86,11 @@ pub(crate) fn prepare(
     data.tex = texture_data(scene, camera.footprint());
     let (prims, instancing) = convert(
         scene,
-        Counts { count, all_spheres },
+        Counts {
+            count,
+            all_spheres,
+            storage,
+        },
         &Instancing {
             shared,
             mesh_grid: mesh_grid.copied().unwrap_or_default(),
@@ -338,6 +351,7 @@ fn add_emitter(data: &mut SceneData, prim: usize, shape: &Shape, material: u32) 
 struct Counts {
     count: usize,
     all_spheres: bool,
+    storage: TriangleStorage,
 }
 
 /// Which meshes stay shared, and how to build their grids.
@@ -347,9 +361,10 @@ struct Instancing {
 }
 
 /// The grid primitives of a scene that is not all spheres, as they are
-/// made: mesh triangles alone, or shapes of every kind.
+/// made: mesh triangles alone (copied or indexed), or shapes of every kind.
 enum Out {
     Triangles(Vec<Triangle>),
+    Mesh(MeshVertices, Vec<MeshTriangle>),
     Shapes(Vec<Shape>),
 }
 
@@ -357,14 +372,34 @@ impl Out {
     fn len(&self) -> usize {
         match self {
             Out::Triangles(v) => v.len(),
+            Out::Mesh(_, v) => v.len(),
             Out::Shapes(v) => v.len(),
         }
     }
 
-    fn push_triangle(&mut self, t: Triangle) {
+    /// Takes in a mesh's vertices; returns the offset of its indices.
+    fn add_vertices(&mut self, positions: &[Vec3]) -> u32 {
         match self {
-            Out::Triangles(v) => v.push(t),
-            Out::Shapes(v) => v.push(Shape::from(t)),
+            Out::Mesh(verts, _) => verts.append(positions),
+            _ => 0,
+        }
+    }
+
+    /// Adds the triangle with vertices `v` of `positions` (whose indices
+    /// start at `first`, from [`Out::add_vertices`]), unless it has zero
+    /// area; returns whether it was added.
+    fn push_triangle(&mut self, positions: &[Vec3], first: u32, v: [u32; 3]) -> bool {
+        let copy = || {
+            let [a, b, c] = v.map(|k| positions[k as usize]);
+            Some(Triangle::new(a, b, c)).filter(|t| !t.is_degenerate())
+        };
+        match self {
+            Out::Triangles(all) => copy().map(|t| all.push(t)).is_some(),
+            Out::Shapes(all) => copy().map(|t| all.push(Shape::from(t))).is_some(),
+            Out::Mesh(verts, all) => MeshTriangle::new(verts, v.map(|k| k + first))
+                .filter(|t| !t.is_degenerate())
+                .map(|t| all.push(t))
+                .is_some(),
         }
     }
 
@@ -378,6 +413,11 @@ impl Out {
                 all.push(s);
                 *self = Out::Shapes(all);
             }
+            (Out::Mesh(verts, v), s) => {
+                let mut all: Vec<Shape> = (0..v.len()).map(|k| mesh_shape(verts, v, k)).collect();
+                all.push(s);
+                *self = Out::Shapes(all);
+            }
             (Out::Shapes(v), s) => v.push(s),
         }
     }
@@ -386,14 +426,39 @@ impl Out {
     fn shape(&self, k: usize) -> Shape {
         match self {
             Out::Triangles(v) => Shape::Triangle(v[k]),
+            Out::Mesh(verts, v) => mesh_shape(verts, v, k),
             Out::Shapes(v) => v[k].clone(),
+        }
+    }
+
+    /// The primitives; indexed triangles get their vertices renumbered in
+    /// the triangles' spatial order ([`MeshVertices::renumber`]).
+    fn finish(self) -> Prims {
+        match self {
+            Out::Triangles(v) => Prims::Triangles(v),
+            Out::Mesh(verts, mut v) => {
+                let order = gridrt_grid::spatial_order(&v, &verts);
+                let (verts, _) = verts.renumber(&mut v, &order);
+                Prims::Mesh(verts, v)
+            }
+            Out::Shapes(v) => Prims::Shapes(v),
         }
     }
 }
 
+/// Indexed triangle `k` of `tris` as a shape.
+fn mesh_shape(verts: &MeshVertices, tris: &[MeshTriangle], k: usize) -> Shape {
+    let [a, b, c] = tris[k].vertices(verts);
+    Shape::Triangle(Triangle::new(a, b, c))
+}
+
 fn convert(
     scene: &Scene,
-    Counts { count, all_spheres }: Counts,
+    Counts {
+        count,
+        all_spheres,
+        storage,
+    }: Counts,
     instancing: &Instancing,
     sample_lights: bool,
     data: &mut SceneData,
@@ -520,7 +585,19 @@ fn convert(
             Geometry::Spheres(set) => set.spheres.is_empty(),
             Geometry::Sphere { .. } | Geometry::Cuboid { .. } => false,
         });
-        let mut shapes = if triangles_only {
+        // Indexed triangles need every vertex of the scene in one array.
+        let vertices: usize = scene
+            .objects
+            .iter()
+            .map(|o| match &o.geometry {
+                Geometry::Mesh(m) | Geometry::Instance { mesh: m, .. } => m.positions.len(),
+                _ => 0,
+            })
+            .sum();
+        let indexed = storage == TriangleStorage::Indexed && vertices <= MeshTriangle::MAX_VERTICES;
+        let mut shapes = if triangles_only && indexed {
+            Out::Mesh(MeshVertices::default(), Vec::with_capacity(count))
+        } else if triangles_only {
             Out::Triangles(Vec::with_capacity(count))
         } else {
             Out::Shapes(Vec::with_capacity(count))
@@ -596,13 +673,11 @@ fn convert(
                     data.meshes.push(MeshShading::new(Arc::clone(m), uvs));
                     (data.meshes.len() - 1) as u32
                 };
-                for (t, &[a, b, c]) in m.triangles.iter().enumerate() {
-                    let p = |k: u32| -> Vec3 { m.positions[k as usize] };
-                    let tri = Triangle::new(p(a), p(b), p(c));
-                    if tri.is_degenerate() {
+                let first = shapes.add_vertices(&m.positions);
+                for (t, &v) in m.triangles.iter().enumerate() {
+                    if !shapes.push_triangle(&m.positions, first, v) {
                         continue;
                     }
-                    shapes.push_triangle(tri);
                     let r = MeshRef {
                         mesh: mesh_id,
                         tri: t as u32,
@@ -619,10 +694,7 @@ fn convert(
         stats.shared_meshes = grids.len();
         stats.bytes = grids.values().map(|g| g.bytes()).sum::<usize>()
             + stats.instances * std::mem::size_of::<Instance>();
-        match shapes {
-            Out::Triangles(v) => Prims::Triangles(v),
-            Out::Shapes(v) => Prims::Shapes(v),
-        }
+        shapes.finish()
     };
     data.prim_material = match uniform {
         Some(m) => PrimMaterials::Uniform(m),
@@ -650,7 +722,12 @@ mod tests {
     #[test]
     fn a_coloured_set_is_one_material_and_its_colours() {
         let scene = suffern::scene(50);
-        let p = prepare(&scene, Some(&GridConfig::default())).unwrap();
+        let p = prepare(
+            &scene,
+            Some(&GridConfig::default()),
+            TriangleStorage::Copies,
+        )
+        .unwrap();
         assert!(matches!(p.data.prim_material, PrimMaterials::Uniform(0)));
         let Geometry::Spheres(set) = &scene.objects[0].geometry else {
             panic!("the benchmark is one sphere set");
@@ -683,7 +760,12 @@ mod tests {
             colors: Vec::new(),
         };
         scene.objects.push(set_object(plain, 1));
-        let p = prepare(&scene, Some(&GridConfig::default())).unwrap();
+        let p = prepare(
+            &scene,
+            Some(&GridConfig::default()),
+            TriangleStorage::Copies,
+        )
+        .unwrap();
         let Geometry::Spheres(set) = &scene.objects[1].geometry else {
             panic!("object 1 is the benchmark's set");
         };
@@ -708,7 +790,12 @@ mod tests {
             },
             0,
         ));
-        let p = prepare(&scene, Some(&GridConfig::default())).unwrap();
+        let p = prepare(
+            &scene,
+            Some(&GridConfig::default()),
+            TriangleStorage::Copies,
+        )
+        .unwrap();
         assert!(p.data.prim_albedo.is_empty());
         assert!(matches!(p.data.prim_material, PrimMaterials::Uniform(0)));
         assert_eq!(p.prims.len(), 4);
@@ -737,7 +824,12 @@ mod tests {
             geometry: Geometry::Mesh(Arc::clone(&mesh)),
             material: 0,
         });
-        let p = prepare(&scene, Some(&GridConfig::default())).unwrap();
+        let p = prepare(
+            &scene,
+            Some(&GridConfig::default()),
+            TriangleStorage::Copies,
+        )
+        .unwrap();
         let shading = &p.data.meshes[0];
         assert_eq!(shading.normals().as_ptr(), mesh.normals.as_ptr());
         assert_eq!(shading.triangles().as_ptr(), mesh.triangles.as_ptr());
@@ -781,7 +873,12 @@ mod tests {
             },
             material: 0,
         });
-        let p = prepare(&scene, Some(&GridConfig::default())).unwrap();
+        let p = prepare(
+            &scene,
+            Some(&GridConfig::default()),
+            TriangleStorage::Copies,
+        )
+        .unwrap();
         assert!(matches!(&p.prims, Prims::Triangles(v) if v.len() == 4));
         // Möller–Trumbore triangles are shapes of their own kind.
         let mt = crate::robustness::with_triangle_test(
@@ -798,7 +895,12 @@ mod tests {
             },
             material: 0,
         });
-        let p = prepare(&scene, Some(&GridConfig::default())).unwrap();
+        let p = prepare(
+            &scene,
+            Some(&GridConfig::default()),
+            TriangleStorage::Copies,
+        )
+        .unwrap();
         assert!(matches!(&p.prims, Prims::Shapes(v) if v.len() == 5));
     }
 }

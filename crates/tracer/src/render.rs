@@ -1,7 +1,7 @@
 //! The public render API: options, the prepared [`Renderer`], the
 //! framebuffer and statistics, and the tile loop (parallel with rayon).
 
-use crate::accel_of::{build_accel, grid_config, with_accel, Accel, AccelOf};
+use crate::accel_of::{build_accel, grid_config, with_accel, Accel, AccelOf, TriangleStorage};
 use crate::camera::CameraModel;
 use crate::error::{Cancelled, SceneError};
 use crate::framebuffer::{Framebuffer, LiveImage, PixelRect};
@@ -51,6 +51,9 @@ pub struct RenderOptions {
     pub threads: Option<usize>,
     /// The ray–triangle test (default: watertight).
     pub triangle_test: TriangleTest,
+    /// How the accelerator stores a mesh scene's triangles (default:
+    /// copies).
+    pub triangles: TriangleStorage,
     /// How secondary rays leave surfaces (default: by the error bound).
     pub ray_offset: RayOffset,
     /// Whether a mesh placed by several [`crate::Geometry::Instance`]
@@ -66,6 +69,7 @@ impl Default for RenderOptions {
             grid: GridConfig::default(),
             threads: None,
             triangle_test: TriangleTest::Watertight,
+            triangles: TriangleStorage::Copies,
             ray_offset: RayOffset::ErrorBound,
             instancing: true,
         }
@@ -130,7 +134,13 @@ impl Renderer {
             height,
             spp,
             instancing,
-        } = pool.install(|| prepare(scene, options.instancing.then_some(&mesh_grid)))?;
+        } = pool.install(|| {
+            prepare(
+                scene,
+                options.instancing.then_some(&mesh_grid),
+                options.triangles,
+            )
+        })?;
         data.ray_offset = options.ray_offset;
         let prims = with_triangle_test(prims, options.triangle_test);
         let prim_count = prims.len() + data.planes.len();
@@ -156,6 +166,10 @@ impl Renderer {
             Prims::Triangles(v) => {
                 let (a, s) = build_accel(v, (), options, parallel);
                 (Accel::Triangles(a), s)
+            }
+            Prims::Mesh(verts, tris) => {
+                let (a, s) = build_accel(tris, verts, options, parallel);
+                (Accel::Mesh(a), s)
             }
             Prims::Shapes(v) => {
                 let (a, s) = build_accel(v, (), options, parallel);

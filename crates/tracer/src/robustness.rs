@@ -9,7 +9,7 @@
 
 use crate::float::offset_ray_origin;
 use crate::prepare::Prims;
-use crate::shapes::{MtTriangle, Shape};
+use crate::shapes::{MtTriangle, Shape, Triangle};
 use gridrt_bbox::{Real, Vec3};
 
 /// Which ray–triangle test the renderer uses.
@@ -68,6 +68,14 @@ pub(crate) fn with_triangle_test(prims: Prims, test: TriangleTest) -> Prims {
         (Prims::Triangles(v), TriangleTest::MollerTrumbore) => Prims::Shapes(
             v.into_iter()
                 .map(|t| Shape::MtTriangle(MtTriangle(t)))
+                .collect(),
+        ),
+        (Prims::Mesh(verts, v), TriangleTest::MollerTrumbore) => Prims::Shapes(
+            v.iter()
+                .map(|t| {
+                    let [a, b, c] = t.vertices(&verts);
+                    Shape::MtTriangle(MtTriangle(Triangle::new(a, b, c)))
+                })
                 .collect(),
         ),
         (Prims::Shapes(v), TriangleTest::MollerTrumbore) => Prims::Shapes(

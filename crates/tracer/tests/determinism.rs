@@ -1,7 +1,8 @@
 //! The same image whatever the accelerator and the thread count.
 
 use crate::common::*;
-use gridrt_tracer::{suffern, AccelKind, RenderOptions, Renderer};
+use gridrt_grid::{Real, Vec3};
+use gridrt_tracer::{suffern, AccelKind, RenderOptions, Renderer, Rgb};
 
 #[test]
 fn grid_dense_grid_and_exhaustive_are_bit_identical() {
@@ -65,4 +66,90 @@ fn sphere_set_renders_like_objects() {
     }
     let (want, _) = render_with(&scene, &opts);
     assert!(img == want);
+}
+
+/// A scene of meshes alone: two smooth UV spheres (their poles hold
+/// zero-area triangles, left out of the grid), one of them glowing (an
+/// area light made of triangles), a flat mesh placed twice, a floor plane
+/// and a point light with shadows.
+fn meshes_only(integrator: gridrt_tracer::IntegratorChoice) -> gridrt_tracer::Scene {
+    use gridrt_tracer::{Affine, Geometry, Material, Mesh};
+    use std::sync::Arc;
+    let mut s = empty_scene(36, 28, Vec3::new(0.5, 1.5, 6.0));
+    s.settings.spp = 2;
+    s.settings.max_depth = 3;
+    s.settings.integrator = integrator;
+    let red = material(&mut s, matte(Rgb::new(0.8, 0.2, 0.1), 0.2, 0.8));
+    let lamp = material(
+        &mut s,
+        Material::Emissive {
+            color: Rgb::new(1.0, 0.9, 0.7),
+            strength: 3.0,
+        },
+    );
+    let ball = |c: Vec3, r: Real| Geometry::Mesh(Arc::new(uv_sphere(c, r, 10, 6)));
+    object(&mut s, ball(Vec3::new(-0.8, 0.2, 0.0), 0.7), red);
+    object(&mut s, ball(Vec3::new(1.2, 1.6, -1.0), 0.3), lamp);
+    let quad = Arc::new(Mesh {
+        name: "quad".into(),
+        positions: vec![
+            Vec3::new(0.0, -0.5, 0.0),
+            Vec3::new(1.0, -0.5, 0.0),
+            Vec3::new(1.0, 0.5, 0.0),
+            Vec3::new(0.0, 0.5, 0.0),
+        ],
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+        ..Default::default()
+    });
+    for x in [0.3, 1.5] {
+        let geometry = Geometry::Instance {
+            mesh: Arc::clone(&quad),
+            to_world: Box::new(Affine::translation(Vec3::new(x, 0.0, -0.5))),
+        };
+        object(&mut s, geometry, red);
+    }
+    object(
+        &mut s,
+        Geometry::Plane {
+            point: Vec3::new(0.0, -0.5, 0.0),
+            normal: Vec3::Y,
+        },
+        red,
+    );
+    s.lights = vec![gridrt_tracer::Light::Point {
+        position: Vec3::new(2.0, 4.0, 3.0),
+        color: Rgb::ONE,
+        intensity: 30.0,
+        inverse_square: true,
+        shadows: true,
+    }];
+    s
+}
+
+#[test]
+fn indexed_triangles_render_like_copies() {
+    use gridrt_tracer::{IntegratorChoice, TriangleStorage};
+    for integrator in [IntegratorChoice::Whitted, IntegratorChoice::Path] {
+        let scene = meshes_only(integrator);
+        for accel in [AccelKind::Grid, AccelKind::Exhaustive] {
+            // Shared instances make a scene of shapes; baked ones keep it
+            // one of triangles alone.
+            for instancing in [false, true] {
+                let mut o = opts(accel, Some(2));
+                o.instancing = instancing;
+                let (want, ws) = render_with(&scene, &o);
+                o.triangles = TriangleStorage::Indexed;
+                let r = Renderer::new(&scene, &o).unwrap();
+                let indexed = format!("{r:?}").contains("indexed triangles");
+                assert_eq!(indexed, !instancing, "{accel:?}, instancing {instancing}");
+                let (img, stats) = r.render(&|_, _| {}, &Default::default()).unwrap();
+                assert!(
+                    img == want,
+                    "{integrator:?}, {accel:?}, instancing {instancing}"
+                );
+                assert_eq!(stats.rays, ws.rays);
+                assert_eq!(stats.plan.area_lights, ws.plan.area_lights);
+            }
+        }
+    }
 }

@@ -116,7 +116,7 @@ impl Surface for Cuboid {
     /// exactly; the other two come from `o + t·d`. The error that matters
     /// for an offset is along the face normal, so the bound is small.
     #[inline]
-    fn surface(&self, ray: &Ray, h: &PrimHit) -> SurfacePoint {
+    fn surface(&self, _: &(), ray: &Ray, h: &PrimHit) -> SurfacePoint {
         let (t, u) = (h.t, h.u);
         let face = (u as usize).min(5);
         let axis = face / 2;
@@ -171,7 +171,7 @@ mod tests {
         let c = Cuboid::new(Vec3::new(-1.0, -2.0, -3.0), Vec3::new(0.3, 0.7, 0.1));
         let r = Ray::new(Vec3::new(5.0, 0.1, -1.0), Vec3::new(-1.0, 0.013, 0.02));
         let h = c.closest_hit(&(), &r, &(), 0.0, 100.0).unwrap();
-        let sp = c.surface(&r, &h);
+        let sp = c.surface(&(), &r, &h);
         assert_eq!(sp.p.x, 0.3);
         assert_eq!(sp.n, Vec3::X);
     }

@@ -9,7 +9,8 @@
 //! ray is the image of the point at `t` along the world ray, so hits compare
 //! by `t` across instances and with the scene's other primitives.
 
-use super::{unit_or, Surface, SurfacePoint, Triangle};
+use super::triangle::surface_point;
+use super::{unit_or, SurfacePoint, Triangle};
 use crate::scene::Mesh;
 use crate::texture::shade::TriFrame;
 use crate::transform::Affine;
@@ -179,10 +180,10 @@ impl Instance {
     /// origin back into object space, so that rays leaving the point clear
     /// the triangle there too.
     #[inline]
-    pub(crate) fn surface_part(&self, ray: &Ray, h: &PrimHit) -> SurfacePoint {
+    pub(crate) fn surface_part(&self, h: &PrimHit) -> SurfacePoint {
         let m = &self.shared.mesh;
         let p = m.triangles[h.part as usize].map(|k| m.positions[k as usize]);
-        let obj = Triangle::new(p[0], p[1], p[2]).surface(&self.object_ray(ray), h);
+        let obj = surface_point(p, h);
         let (p, mut p_err) = self.to_world.point_with_error(obj.p, obj.p_err);
         let abs = |a: &Affine| Affine {
             cols: a.cols.map(Vec3::abs),
@@ -235,7 +236,7 @@ mod tests {
         assert!((h.t - 5.0).abs() < 1e-5, "{h:?}");
         // (11, 1) is (0.5, 0.5) in object space: the second triangle.
         assert_eq!(h.part, 0);
-        let sp = inst.surface_part(&ray, &h);
+        let sp = inst.surface_part(&h);
         assert!(
             (sp.p - Vec3::new(11.0, 1.0, -5.0)).abs().max_element()
                 <= sp.p_err.max_element() + 1e-5
@@ -260,7 +261,7 @@ mod tests {
         let h = inst
             .closest_hit(&(), &ray, &(), 0.0, Real::INFINITY)
             .unwrap();
-        let sp = inst.surface_part(&ray, &h);
+        let sp = inst.surface_part(&h);
         // The quad faced +z; mirrored in z its front faces −z.
         assert!((sp.n + Vec3::Z).length() < 1e-6, "{:?}", sp.n);
         assert_eq!(h.part, 0);

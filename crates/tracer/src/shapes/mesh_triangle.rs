@@ -1,8 +1,8 @@
 //! Triangles that refer to a shared vertex array: the grid primitive of
 //! meshes when memory matters more than the last few percent of speed.
 
-use super::triangle::{area_normal_f64, intersect_lanes};
-use super::{overlap, Shear};
+use super::triangle::{area_normal_f64, intersect_lanes, surface_point};
+use super::{overlap, Shear, Surface, SurfacePoint};
 use gridrt_bbox::math::{LaneMat, Lanes};
 use gridrt_bbox::{Aabb, Ray, Real, Vec3};
 use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primitive};
@@ -25,6 +25,15 @@ impl MeshVertices {
                 .map(|p| Lanes::new(p.x, p.y, p.z, 0.0))
                 .collect(),
         )
+    }
+
+    /// Appends `positions` and returns the index of the first: the offset
+    /// to add to the indices of the mesh they come from.
+    pub fn append(&mut self, positions: &[Vec3]) -> u32 {
+        let first = self.0.len() as u32;
+        self.0
+            .extend(positions.iter().map(|p| Lanes::new(p.x, p.y, p.z, 0.0)));
+        first
     }
 
     /// How many vertices there are.
@@ -275,6 +284,15 @@ impl Primitive for MeshTriangle {
     fn overlaps_box(&self, verts: &MeshVertices, cell: &Aabb) -> bool {
         let [p0, p1, p2] = self.vertices(verts);
         overlap::triangle_box(p0, p1, p2, cell)
+    }
+}
+
+impl Surface for MeshTriangle {
+    /// [`Triangle`](super::Triangle)'s surface point, from the gathered
+    /// vertices.
+    #[inline]
+    fn surface(&self, verts: &MeshVertices, _: &Ray, h: &PrimHit) -> SurfacePoint {
+        surface_point(self.vertices(verts), h)
     }
 }
 

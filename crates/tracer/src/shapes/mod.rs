@@ -48,8 +48,9 @@ pub(crate) struct SurfacePoint {
 pub(crate) trait Surface: Primitive {
     /// The surface point of a hit this primitive reported from
     /// [`Primitive::closest_hit`] (`t`, its own `u`, `v`, and the part hit,
-    /// such as the triangle of an instance).
-    fn surface(&self, ray: &Ray, h: &PrimHit) -> SurfacePoint;
+    /// such as the triangle of an instance); `shared` is what the
+    /// accelerator keeps for all its primitives ([`Primitive::Shared`]).
+    fn surface(&self, shared: &Self::Shared, ray: &Ray, h: &PrimHit) -> SurfacePoint;
 
     /// The instance this primitive is, if it is one.
     #[inline]
@@ -215,13 +216,13 @@ impl Shape {
 
 impl Surface for Shape {
     #[inline]
-    fn surface(&self, ray: &Ray, h: &PrimHit) -> SurfacePoint {
+    fn surface(&self, _: &(), ray: &Ray, h: &PrimHit) -> SurfacePoint {
         match self {
-            Shape::Sphere(s) => s.surface(ray, h),
-            Shape::Cuboid(c) => c.surface(ray, h),
-            Shape::Triangle(tr) => tr.surface(ray, h),
-            Shape::MtTriangle(tr) => tr.surface(ray, h),
-            Shape::Instance(i) => i.surface_part(ray, h),
+            Shape::Sphere(s) => s.surface(&(), ray, h),
+            Shape::Cuboid(c) => c.surface(&(), ray, h),
+            Shape::Triangle(tr) => tr.surface(&(), ray, h),
+            Shape::MtTriangle(tr) => tr.surface(&(), ray, h),
+            Shape::Instance(i) => i.surface_part(h),
         }
     }
 

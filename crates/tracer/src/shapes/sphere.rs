@@ -181,7 +181,7 @@ impl Surface for Sphere {
     /// The hit point is projected back onto the sphere (pbrt-v4 §6.8.5), so
     /// its error is a few ULPs of the radius, not of the ray's length.
     #[inline]
-    fn surface(&self, ray: &Ray, h: &PrimHit) -> SurfacePoint {
+    fn surface(&self, _: &(), ray: &Ray, h: &PrimHit) -> SurfacePoint {
         let raw = ray.at(h.t) - self.center;
         let len = raw.length();
         let local = if len > 0.0 {
@@ -248,7 +248,7 @@ mod tests {
             s.center - Vec3::new(100.0, 40.0, -30.0),
         );
         let t = s.intersect(&ray, 0.0, Real::INFINITY).unwrap();
-        let sp = s.surface(&ray, &PrimHit::new(t, 0.0, 0.0));
+        let sp = s.surface(&(), &ray, &PrimHit::new(t, 0.0, 0.0));
         let dist = (sp.p - s.center).length();
         assert!((dist - 0.5).abs() <= 4.0 * Real::EPSILON * 8.0);
         assert!((sp.n.length() - 1.0).abs() < 1e-5);

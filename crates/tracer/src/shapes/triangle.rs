@@ -88,8 +88,7 @@ impl Triangle {
     #[must_use]
     #[allow(clippy::cast_possible_truncation)] // the rounding to `f32` is the point
     pub fn area_normal(&self) -> Vec3 {
-        let n = area_normal_f64(self.vertices());
-        Vec3::new(n.x as Real, n.y as Real, n.z as Real)
+        area_normal(self.vertices())
     }
 
     /// Whether the triangle has zero area (its vertices are collinear), in
@@ -122,6 +121,13 @@ impl Triangle {
             t_max,
         )
     }
+}
+
+/// [`Triangle::area_normal`] of the triangle `p`.
+#[inline]
+pub(super) fn area_normal(p: [Vec3; 3]) -> Vec3 {
+    let n = area_normal_f64(p);
+    Vec3::new(n.x as Real, n.y as Real, n.z as Real)
 }
 
 /// [`Triangle::area_normal`] of the triangle `p` before its rounding to
@@ -359,36 +365,40 @@ impl Primitive for Triangle {
 }
 
 impl Surface for Triangle {
-    /// The point from the barycentrics as `p0 + u·(p1 − p0) + v·(p2 − p0)`,
-    /// with a bound on its distance from the triangle's plane: a few ulps
-    /// of the two edge terms (small near `p0`, and scaled with the
-    /// triangle, not with its distance from the world origin) plus two
-    /// ulps of the point's coordinates for the final additions. Far from
-    /// the origin this is about a third of pbrt-v4's γ(7)·Σ|bᵢ·pᵢ|, so
-    /// secondary rays start within the rounding of the geometry.
     #[inline]
-    fn surface(&self, _ray: &Ray, h: &PrimHit) -> SurfacePoint {
-        let (u, v) = (h.u, h.v);
-        let [p0, p1, p2] = self.vertices();
-        let a = (p1 - p0) * u;
-        let b = (p2 - p0) * v;
-        let s = p0 + a;
-        let p = s + b;
-        // A secondary ray leaving the point is tested against this triangle
-        // again, and that test rounds the vertices' depths along the ray's
-        // major axis, which need not be the normal's: its error is a few
-        // ulps of the triangle's extent in every direction. The origin must
-        // clear that too, or points whose own rounding is exact (a triangle
-        // in a coordinate plane) hit their own triangle at random (acne).
-        let extent = (p1 - p0).abs().max((p2 - p0).abs()).max_element();
-        let p_err = (a.abs() + b.abs()) * gamma(3)
-            + (p0.abs() + s.abs() + p.abs()) * gamma(1)
-            + Vec3::splat(extent * gamma(16));
-        SurfacePoint {
-            p,
-            p_err,
-            n: unit_or(self.area_normal(), Vec3::Z),
-        }
+    fn surface(&self, _: &(), _ray: &Ray, h: &PrimHit) -> SurfacePoint {
+        surface_point(self.vertices(), h)
+    }
+}
+
+/// The point from the barycentrics as `p0 + u·(p1 − p0) + v·(p2 − p0)`,
+/// with a bound on its distance from the triangle's plane: a few ulps
+/// of the two edge terms (small near `p0`, and scaled with the
+/// triangle, not with its distance from the world origin) plus two
+/// ulps of the point's coordinates for the final additions. Far from
+/// the origin this is about a third of pbrt-v4's γ(7)·Σ|bᵢ·pᵢ|, so
+/// secondary rays start within the rounding of the geometry.
+#[inline]
+pub(super) fn surface_point([p0, p1, p2]: [Vec3; 3], h: &PrimHit) -> SurfacePoint {
+    let (u, v) = (h.u, h.v);
+    let a = (p1 - p0) * u;
+    let b = (p2 - p0) * v;
+    let s = p0 + a;
+    let p = s + b;
+    // A secondary ray leaving the point is tested against this triangle
+    // again, and that test rounds the vertices' depths along the ray's
+    // major axis, which need not be the normal's: its error is a few
+    // ulps of the triangle's extent in every direction. The origin must
+    // clear that too, or points whose own rounding is exact (a triangle
+    // in a coordinate plane) hit their own triangle at random (acne).
+    let extent = (p1 - p0).abs().max((p2 - p0).abs()).max_element();
+    let p_err = (a.abs() + b.abs()) * gamma(3)
+        + (p0.abs() + s.abs() + p.abs()) * gamma(1)
+        + Vec3::splat(extent * gamma(16));
+    SurfacePoint {
+        p,
+        p_err,
+        n: unit_or(area_normal([p0, p1, p2]), Vec3::Z),
     }
 }
 
@@ -533,7 +543,7 @@ mod tests {
         let tri = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
         let r = ray([0.2, 0.3, 5.0], [0.0, 0.0, -1.0]);
         let h = tri.intersect(&Shear::new(&r), 0.0, 10.0).unwrap();
-        let sp = tri.surface(&r, &h);
+        let sp = tri.surface(&(), &r, &h);
         assert_eq!(sp.n, Vec3::Z);
         assert!((sp.p - Vec3::new(0.2, 0.3, 0.0)).length() < 1e-6);
     }

@@ -98,8 +98,8 @@ impl Primitive for MtTriangle {
 
 impl Surface for MtTriangle {
     #[inline]
-    fn surface(&self, ray: &Ray, h: &PrimHit) -> SurfacePoint {
-        self.0.surface(ray, h)
+    fn surface(&self, _: &(), ray: &Ray, h: &PrimHit) -> SurfacePoint {
+        self.0.surface(&(), ray, h)
     }
 }
 
