@@ -342,19 +342,6 @@ fn rays_with_indexed_triangles_answer_as_copies() {
             assert_eq!(indexed, copies, "{mesh:?} {accel}");
         }
     }
-    let o = gridrt(
-        &[
-            "rays",
-            fixture("meshes/teapot/teapot.obj").to_str().unwrap(),
-            "r.csv",
-            "--triangles",
-            "indexed",
-            "--triangle-test",
-            "moller-trumbore",
-        ],
-        dir.path(),
-    );
-    assert_one_line_error(&o, "--triangles");
 }
 
 #[test]
@@ -382,21 +369,29 @@ fn render_with_indexed_triangles_gives_the_same_image() {
         assert!(indexed == copies, "{mesh:?}");
         assert!(summary.contains("triangles indexed"), "{summary}");
         // Shared instances keep their own grids of copies.
+        let (shared_copies, _) = run("shared-copies", &[]);
         let (shared, _) = run("shared", &["--triangles", "indexed"]);
-        assert!(shared == copies, "{mesh:?}");
+        assert!(shared == shared_copies, "{mesh:?}");
     }
-    let o = gridrt(
-        &[
-            "render",
-            fixture("meshes/teapot/teapot.obj").to_str().unwrap(),
+}
+
+#[test]
+fn indexed_triangles_need_the_watertight_test() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("r.csv"), "0,0,5,0,0,-1\n").unwrap();
+    let mesh = fixture("meshes/teapot/teapot.obj");
+    let mesh = mesh.to_str().unwrap();
+    for command in [vec!["rays", mesh, "r.csv"], vec!["render", mesh]] {
+        let mut args = command.clone();
+        args.extend_from_slice(&[
             "--triangles",
             "indexed",
             "--triangle-test",
             "moller-trumbore",
-        ],
-        dir.path(),
-    );
-    assert_one_line_error(&o, "--triangles");
+        ]);
+        let o = gridrt(&args, dir.path());
+        assert_one_line_error(&o, "--triangles");
+    }
     assert!(!dir.path().join("out.png").exists());
 }
 
