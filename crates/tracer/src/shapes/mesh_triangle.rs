@@ -239,7 +239,11 @@ impl Primitive for MeshTriangle {
         t_min: Real,
         t_max: Real,
     ) -> Option<PrimHit> {
-        let [a, b, c] = [0, 1, 2].map(|i| self.vertex_lanes(verts, i));
+        let [a, b, c] = [
+            self.vertex_lanes(verts, 0),
+            self.vertex_lanes(verts, 1),
+            self.vertex_lanes(verts, 2),
+        ];
         let m = LaneMat::from_cols(a, b, c, Lanes::ZERO).transpose();
         let coords = [m.x_axis, m.y_axis, m.z_axis];
         intersect_lanes(coords, self.is_degenerate(), shear, t_min, t_max)

@@ -123,11 +123,13 @@ impl Shear {
     #[inline(always)]
     #[must_use]
     pub fn triangles_may_hit_by_vertex(&self, vertex: impl Fn(usize) -> [Lanes; 4]) -> u32 {
-        let v = [0, 1, 2].map(|i| {
+        let rows = |i| {
             let [a, b, c, d] = vertex(i);
             let m = LaneMat::from_cols(a, b, c, d).transpose();
             [m.x_axis, m.y_axis, m.z_axis]
-        });
+        };
+        // Written out: `array::map` here stayed an out-of-line call.
+        let v = [rows(0), rows(1), rows(2)];
         self.may_hit_rows(|k| [v[0][k], v[1][k], v[2][k]])
     }
 
