@@ -9,47 +9,21 @@ use crate::instancing::{flattened, InstancingStats, SharedMeshes};
 use crate::integrator::{DirectLight, MeshRef, MeshShading, PrimColors, PrimMaterials, SceneData};
 use crate::lights::{AreaLight, Environment};
 use crate::plan::{EffectPlan, IntegratorKind};
-use crate::scene::{Geometry, Light, Material, Mesh, Rgb, Scene, SphereSet};
-use crate::shapes::{
-    Cuboid, Instance, MeshGrid, MeshTriangle, MeshVertices, Plane, Shape, Sphere, Triangle,
-};
+use crate::scene::{Geometry, Light, Material, Mesh, Rgb, Scene};
+use crate::shapes::{Cuboid, Instance, MeshGrid, MeshTriangle, MeshVertices, Plane, Shape, Sphere};
 use crate::texture::shade::TextureData;
 use crate::validate::validate;
-use gridrt_bbox::{Real, Vec3};
+use gridrt_bbox::Real;
 use gridrt_grid::GridConfig;
+use prims::Out;
+pub(crate) use prims::Prims;
 use std::collections::HashMap;
 use std::sync::Arc;
 
+mod prims;
+
 /// The largest image, in pixels, the renderer accepts (8192 × 8192).
 pub const MAX_PIXELS: u64 = 1 << 26;
-
-/// The grid primitives of a scene: spheres only gets the compact type.
-#[derive(Debug)]
-pub(crate) enum Prims {
-    Spheres(Vec<Sphere>),
-    /// A scene's only primitives: one sphere set, shared with the scene
-    /// (the grid copies each sphere once, straight into cell order).
-    Set(Arc<SphereSet>),
-    /// Mesh triangles only (meshes, flattened instances, planes aside):
-    /// the compact type, with no enum tag.
-    Triangles(Vec<Triangle>),
-    /// The same, as indices into one array of the meshes' vertices
-    /// ([`TriangleStorage::Indexed`]).
-    Mesh(MeshVertices, Vec<MeshTriangle>),
-    Shapes(Vec<Shape>),
-}
-
-impl Prims {
-    pub(crate) fn len(&self) -> usize {
-        match self {
-            Prims::Spheres(v) => v.len(),
-            Prims::Set(s) => s.spheres.len(),
-            Prims::Triangles(v) => v.len(),
-            Prims::Mesh(_, v) => v.len(),
-            Prims::Shapes(v) => v.len(),
-        }
-    }
-}
 
 /// A validated scene, ready for an accelerator to be built over `prims`.
 #[derive(Debug)]
@@ -360,98 +334,6 @@ struct Instancing {
     mesh_grid: GridConfig,
 }
 
-/// The grid primitives of a scene that is not all spheres, as they are
-/// made: mesh triangles alone (copied or indexed), or shapes of every kind.
-enum Out {
-    Triangles(Vec<Triangle>),
-    Mesh(MeshVertices, Vec<MeshTriangle>),
-    Shapes(Vec<Shape>),
-}
-
-impl Out {
-    fn len(&self) -> usize {
-        match self {
-            Out::Triangles(v) => v.len(),
-            Out::Mesh(_, v) => v.len(),
-            Out::Shapes(v) => v.len(),
-        }
-    }
-
-    /// Takes in a mesh's vertices; returns the offset of its indices.
-    fn add_vertices(&mut self, positions: &[Vec3]) -> u32 {
-        match self {
-            Out::Mesh(verts, _) => verts.append(positions),
-            _ => 0,
-        }
-    }
-
-    /// Adds the triangle with vertices `v` of `positions` (whose indices
-    /// start at `first`, from [`Out::add_vertices`]), unless it has zero
-    /// area; returns whether it was added.
-    fn push_triangle(&mut self, positions: &[Vec3], first: u32, v: [u32; 3]) -> bool {
-        let copy = || {
-            let [a, b, c] = v.map(|k| positions[k as usize]);
-            Some(Triangle::new(a, b, c)).filter(|t| !t.is_degenerate())
-        };
-        match self {
-            Out::Triangles(all) => copy().map(|t| all.push(t)).is_some(),
-            Out::Shapes(all) => copy().map(|t| all.push(Shape::from(t))).is_some(),
-            Out::Mesh(verts, all) => MeshTriangle::new(verts, v.map(|k| k + first))
-                .filter(|t| !t.is_degenerate())
-                .map(|t| all.push(t))
-                .is_some(),
-        }
-    }
-
-    /// Adds a shape; triangles so far become shapes if it is not one (the
-    /// scene's objects decide up front, so this does not happen).
-    fn push(&mut self, s: Shape) {
-        match (&mut *self, s) {
-            (Out::Triangles(v), Shape::Triangle(t)) => v.push(t),
-            (Out::Triangles(v), s) => {
-                let mut all: Vec<Shape> = v.drain(..).map(Shape::from).collect();
-                all.push(s);
-                *self = Out::Shapes(all);
-            }
-            (Out::Mesh(verts, v), s) => {
-                let mut all: Vec<Shape> = (0..v.len()).map(|k| mesh_shape(verts, v, k)).collect();
-                all.push(s);
-                *self = Out::Shapes(all);
-            }
-            (Out::Shapes(v), s) => v.push(s),
-        }
-    }
-
-    /// Primitive `k` as a shape.
-    fn shape(&self, k: usize) -> Shape {
-        match self {
-            Out::Triangles(v) => Shape::Triangle(v[k]),
-            Out::Mesh(verts, v) => mesh_shape(verts, v, k),
-            Out::Shapes(v) => v[k].clone(),
-        }
-    }
-
-    /// The primitives; indexed triangles get their vertices renumbered in
-    /// the triangles' spatial order ([`MeshVertices::renumber`]).
-    fn finish(self) -> Prims {
-        match self {
-            Out::Triangles(v) => Prims::Triangles(v),
-            Out::Mesh(verts, mut v) => {
-                let order = gridrt_grid::spatial_order(&v, &verts);
-                let (verts, _) = verts.renumber(&mut v, &order);
-                Prims::Mesh(verts, v)
-            }
-            Out::Shapes(v) => Prims::Shapes(v),
-        }
-    }
-}
-
-/// Indexed triangle `k` of `tris` as a shape.
-fn mesh_shape(verts: &MeshVertices, tris: &[MeshTriangle], k: usize) -> Shape {
-    let [a, b, c] = tris[k].vertices(verts);
-    Shape::Triangle(Triangle::new(a, b, c))
-}
-
 fn convert(
     scene: &Scene,
     Counts {
@@ -708,8 +590,9 @@ fn convert(
 mod tests {
     use super::*;
     use crate::integrator::PrimMaterials;
-    use crate::scene::Object;
+    use crate::scene::{Object, SphereSet};
     use crate::suffern;
+    use gridrt_bbox::Vec3;
     use std::sync::Arc;
 
     fn set_object(set: SphereSet, material: u32) -> Object {
