@@ -167,9 +167,7 @@ fn mesh_triangles(model: Model, path: &Path) -> Result<(MeshVertices, Vec<MeshTr
         ),
     })?;
     drop(indices);
-    let order = gridrt_grid::spatial_order(&tris, &verts);
-    let (verts, _) = verts.renumber(&mut tris, &order);
-    Ok((verts, tris))
+    Ok((verts.in_spatial_order(&mut tris), tris))
 }
 
 /// Builds the accelerator `a` asks for over `prims` (with the grid switches

@@ -9,7 +9,7 @@
 
 use crate::float::offset_ray_origin;
 use crate::prepare::Prims;
-use crate::shapes::{MtTriangle, Shape, Triangle};
+use crate::shapes::{MtTriangle, Shape};
 use gridrt_bbox::{Real, Vec3};
 
 /// Which ray–triangle test the renderer uses.
@@ -72,10 +72,7 @@ pub(crate) fn with_triangle_test(prims: Prims, test: TriangleTest) -> Prims {
         ),
         (Prims::Mesh(verts, v), TriangleTest::MollerTrumbore) => Prims::Shapes(
             v.iter()
-                .map(|t| {
-                    let [a, b, c] = t.vertices(&verts);
-                    Shape::MtTriangle(MtTriangle(Triangle::new(a, b, c)))
-                })
+                .map(|t| Shape::MtTriangle(MtTriangle(t.to_triangle(&verts))))
                 .collect(),
         ),
         (Prims::Shapes(v), TriangleTest::MollerTrumbore) => Prims::Shapes(

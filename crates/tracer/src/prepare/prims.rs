@@ -110,11 +110,7 @@ impl Out {
     pub(super) fn finish(self) -> Prims {
         match self {
             Out::Triangles(v) => Prims::Triangles(v),
-            Out::Mesh(verts, mut v) => {
-                let order = gridrt_grid::spatial_order(&v, &verts);
-                let (verts, _) = verts.renumber(&mut v, &order);
-                Prims::Mesh(verts, v)
-            }
+            Out::Mesh(verts, mut v) => Prims::Mesh(verts.in_spatial_order(&mut v), v),
             Out::Shapes(v) => Prims::Shapes(v),
         }
     }
@@ -122,6 +118,5 @@ impl Out {
 
 /// Indexed triangle `k` of `tris` as a shape.
 fn mesh_shape(verts: &MeshVertices, tris: &[MeshTriangle], k: usize) -> Shape {
-    let [a, b, c] = tris[k].vertices(verts);
-    Shape::Triangle(Triangle::new(a, b, c))
+    Shape::Triangle(tris[k].to_triangle(verts))
 }

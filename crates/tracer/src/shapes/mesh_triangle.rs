@@ -36,6 +36,15 @@ impl MeshVertices {
         first
     }
 
+    /// The array renumbered ([`Self::renumber`]) in the spatial order of
+    /// `tris` ([`spatial_order`](gridrt_grid::spatial_order)), `tris`
+    /// rewritten to match.
+    #[must_use]
+    pub fn in_spatial_order(&self, tris: &mut [MeshTriangle]) -> Self {
+        let order = gridrt_grid::spatial_order(tris, self);
+        self.renumber(tris, &order).0
+    }
+
     /// How many vertices there are.
     #[must_use]
     pub fn len(&self) -> usize {
@@ -177,6 +186,14 @@ impl MeshTriangle {
     #[must_use]
     pub fn vertices(&self, verts: &MeshVertices) -> [Vec3; 3] {
         self.indices().map(|i| verts.get(i))
+    }
+
+    /// The triangle as a [`Triangle`](super::Triangle) holding copies of
+    /// its vertices.
+    #[must_use]
+    pub fn to_triangle(&self, verts: &MeshVertices) -> super::Triangle {
+        let [a, b, c] = self.vertices(verts);
+        super::Triangle::new(a, b, c)
     }
 
     /// Whether the triangle has zero area (then it is never hit).
