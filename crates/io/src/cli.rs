@@ -2,6 +2,7 @@
 //! `src/main.rs` only parses, calls [`run`] and turns an error into one line.
 
 pub use crate::cli_access::AccessArgs;
+use crate::cli_counts::SceneCounts;
 pub use crate::cli_effects::{EffectArgs, SamplerArg};
 use crate::cli_outputs::{
     pass_paths, render_part, render_watched, save_interrupted, stage_rendered, Rendered,
@@ -20,9 +21,7 @@ use crate::scene::{default_scene, load_scene_in, LoadedScene, DEFAULT_SCENE_NAME
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use gridrt_bbox::{Aabb, Real, Vec3};
 use gridrt_grid::{CellStorage, GridConfig, GridStats, QueryCounters, HIERARCHY_MIN_REFS};
-use gridrt_tracer::{
-    AccelKind, Geometry, Light, Projection, RenderOptions, RenderStats, Renderer, Scene,
-};
+use gridrt_tracer::{AccelKind, Light, Projection, RenderOptions, RenderStats, Renderer};
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -442,6 +441,11 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
         path: loaded.source.clone(),
         msg: e.to_string(),
     })?;
+    // The renderer keeps what it needs of the scene: what the report and
+    // a part's file say of it is taken now, and its geometry let go.
+    let counts = SceneCounts::of(&loaded.scene);
+    let fingerprint = a.part.spec().map(|_| crate::fingerprint(&loaded.scene));
+    loaded.scene.objects = Vec::new();
 
     let bar = progress_bar();
     // Pixels are kept as they come only for partial images.
@@ -488,7 +492,8 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     // into place only when both are complete, so a failure keeps both old
     // files byte for byte.
     WRITING.store(true, Ordering::SeqCst);
-    let written = write_outputs(a, &loaded, &renderer, &rendered, &stats, counters, cancel);
+    let scene = (&loaded, &counts, fingerprint.as_deref());
+    let written = write_outputs(a, scene, &renderer, &rendered, &stats, counters, cancel);
     WRITING.store(false, Ordering::SeqCst);
     written?;
     if a.quiet {
@@ -496,6 +501,7 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     }
     let report = Report {
         loaded: &loaded,
+        counts: &counts,
         accel: a.accel,
         robust: a.intersect.label(Some(&a.offset)),
         threads: a.threads,
@@ -520,7 +526,7 @@ pub static WRITING: AtomicBool = AtomicBool::new(false);
 /// Ctrl-C) keeps both old files byte for byte.
 fn write_outputs(
     a: &RenderArgs,
-    loaded: &LoadedScene,
+    (loaded, counts, fingerprint): (&LoadedScene, &SceneCounts, Option<&str>),
     renderer: &Renderer,
     rendered: &Rendered,
     stats: &RenderStats,
@@ -532,10 +538,11 @@ fn write_outputs(
         renderer,
         rendered,
         a.aov.aov.as_ref(),
-        &loaded.scene,
+        fingerprint,
     )?;
     let report = Report {
         loaded,
+        counts,
         accel: a.accel,
         robust: a.intersect.label(Some(&a.offset)),
         threads: a.threads,
@@ -584,6 +591,7 @@ fn progress_bar() -> Option<indicatif::ProgressBar> {
 /// What a render reports: the text summary and the JSON statistics.
 struct Report<'a> {
     loaded: &'a LoadedScene,
+    counts: &'a SceneCounts,
     accel: AccelArgs,
     /// The robustness switches turned off (empty: the defaults).
     robust: String,
@@ -663,8 +671,8 @@ impl Report<'_> {
             grid_m: crate::model::r64(self.accel.grid_config().m),
             robustness: &self.robust,
             threads: self.threads,
-            objects: s.objects.len(),
-            triangles: triangle_count(s),
+            objects: self.counts.objects,
+            triangles: self.counts.triangles,
             primitives: self.primitives,
             rays_total: self.stats.rays.total(),
             mrays_per_sec: self.stats.mrays_per_sec(),
@@ -680,7 +688,7 @@ impl Report<'_> {
         t += &format!(
             "scene       {} ({})\n",
             self.loaded.source.display(),
-            scene_counts(s)
+            self.counts.text
         );
         t += &format!(
             "image       {}×{}, {} spp\n",
@@ -756,52 +764,6 @@ fn grid_line(g: &GridStats) -> String {
     )
 }
 
-fn triangle_count(s: &Scene) -> usize {
-    s.objects
-        .iter()
-        .map(|o| match &o.geometry {
-            Geometry::Mesh(m) => m.triangles.len(),
-            Geometry::Instance { mesh, .. } => mesh.triangles.len(),
-            _ => 0,
-        })
-        .sum()
-}
-
-/// "12 objects: 3 spheres, 1 box, 1 plane, 7 meshes (1234 triangles)".
-fn scene_counts(s: &Scene) -> String {
-    let (mut sp, mut bx, mut pl, mut me) = (0, 0, 0, 0);
-    for o in &s.objects {
-        match &o.geometry {
-            Geometry::Sphere { .. } => sp += 1,
-            Geometry::Spheres(set) => sp += set.spheres.len(),
-            Geometry::Cuboid { .. } => bx += 1,
-            Geometry::Plane { .. } => pl += 1,
-            Geometry::Mesh(_) | Geometry::Instance { .. } => me += 1,
-        }
-    }
-    let plural = |n: usize, w: &str| format!("{n} {w}{}", if n == 1 { "" } else { "s" });
-    let mut parts = Vec::new();
-    for (n, w) in [(sp, "sphere"), (bx, "box"), (pl, "plane"), (me, "mesh")] {
-        if n > 0 {
-            let word = plural(n, w);
-            parts.push(if w == "box" || w == "mesh" {
-                word.replace("boxs", "boxes").replace("meshs", "meshes")
-            } else {
-                word
-            });
-        }
-    }
-    let mut t = format!(
-        "{}: {}",
-        plural(s.objects.len(), "object"),
-        parts.join(", ")
-    );
-    if me > 0 {
-        t += &format!(" ({} triangles)", triangle_count(s));
-    }
-    t
-}
-
 fn v(p: Vec3) -> String {
     format!("({}, {}, {})", p.x, p.y, p.z)
 }
@@ -840,7 +802,7 @@ fn info(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
             ""
         }
     );
-    t += &format!("objects     {}\n", scene_counts(s));
+    t += &format!("objects     {}\n", SceneCounts::of(s).text);
     let bounds = s
         .objects
         .iter()

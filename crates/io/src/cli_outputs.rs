@@ -88,12 +88,12 @@ pub(crate) fn stage_rendered(
     renderer: &Renderer,
     rendered: &Rendered,
     aovs: Option<&AovList>,
-    scene: &gridrt_tracer::Scene,
+    fingerprint: Option<&str>,
 ) -> Result<(Vec<crate::Staged>, Vec<PathBuf>)> {
     let image = match rendered {
         Rendered::Part(rects, images) => {
-            let f = crate::fingerprint(scene);
-            let staged = crate::stage_part(output, renderer.size(), &f, rects, images)?;
+            let f = fingerprint.unwrap_or_default();
+            let staged = crate::stage_part(output, renderer.size(), f, rects, images)?;
             return Ok((vec![staged], Vec::new()));
         }
         Rendered::Full(image) => image,

@@ -55,6 +55,8 @@ pub mod cli;
 #[cfg(feature = "cli")]
 mod cli_access;
 #[cfg(feature = "cli")]
+mod cli_counts;
+#[cfg(feature = "cli")]
 mod cli_effects;
 #[cfg(feature = "cli")]
 mod cli_outputs;

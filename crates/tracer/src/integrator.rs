@@ -457,7 +457,7 @@ where
         let mesh = self.data.meshes.get(m.mesh as usize)?;
         Some(MeshTriangle {
             mesh,
-            corners: *mesh.triangles().get(m.tri as usize)?,
+            corners: mesh.corners(m.tri, prim.vertex_indices())?,
             tri: m.tri,
             instance,
         })

@@ -1,24 +1,52 @@
 //! What shading reads of a mesh: its normals, colours, texture coordinates
-//! and vertex indices (the scene's own arrays, shared, not copied), and
-//! which mesh triangle each grid primitive is.
+//! and vertex indices, and which mesh triangle each grid primitive is.
+//! The arrays are the scene's own, shared, or, for indexed triangles, one
+//! table of the scene's vertices renumbered like the grid's vertices.
 
 use crate::scene::{Mesh, Rgb};
 use crate::texture::shade::TriFrame;
+use glam::Vec2;
 use gridrt_bbox::Vec3;
 use std::sync::Arc;
 
 /// Per-vertex normals of a mesh, for smooth shading, and its texture
 /// coordinates with each triangle's texture frame, for texturing. The
-/// arrays are the scene's mesh, shared by `Arc`; only the frames are
-/// the renderer's own.
+/// arrays are shared by `Arc`; only the frames are the mesh's own.
 #[derive(Clone, Debug)]
 pub(crate) struct MeshShading {
-    mesh: Arc<Mesh>,
+    vertices: Vertices,
     /// Whether shading reads the texture coordinates (the mesh has them
     /// and a material with textures uses it).
     textured: bool,
     /// One per triangle when textured, else empty.
     pub frames: Vec<TriFrame>,
+}
+
+/// Where a mesh's per-vertex arrays are.
+#[derive(Clone, Debug)]
+enum Vertices {
+    /// The scene's mesh, indexed by its own triangles.
+    Mesh(Arc<Mesh>),
+    /// The mesh's rows of a [`VertexTable`], indexed by the grid's
+    /// triangles; a flag says whether the mesh has each array.
+    Table {
+        table: Arc<VertexTable>,
+        normals: bool,
+        colors: bool,
+        uvs1: bool,
+    },
+}
+
+/// The per-vertex arrays of several meshes in one numbering, the grid's
+/// ([`MeshVertices::renumber`](crate::shapes::MeshVertices::renumber)):
+/// each array is empty when no mesh has it, else one row per vertex
+/// (zero for the vertices of meshes without it).
+#[derive(Debug, Default)]
+pub(crate) struct VertexTable {
+    normals: Vec<Vec3>,
+    colors: Vec<Rgb>,
+    uvs: Vec<Vec2>,
+    uvs1: Vec<Vec2>,
 }
 
 impl MeshShading {
@@ -36,47 +64,120 @@ impl MeshShading {
             Vec::new()
         };
         Self {
-            mesh,
+            vertices: Vertices::Mesh(mesh),
             textured: uvs,
             frames,
+        }
+    }
+
+    /// Moves the per-vertex arrays of the meshes `placed` (index in
+    /// `meshes`, and the number of the mesh's first vertex before
+    /// renumbering) into one [`VertexTable`] of `len` rows: old vertex `i`
+    /// becomes row `new_of[i]` (`u32::MAX`: used by no triangle). The
+    /// meshes then no longer hold the scene's arrays, and read their
+    /// corners from the grid's triangles.
+    pub(crate) fn renumber(
+        meshes: &mut [MeshShading],
+        placed: &[(u32, u32)],
+        new_of: &[u32],
+        len: usize,
+    ) {
+        let source = |k: u32| match meshes.get(k as usize).map(|m| &m.vertices) {
+            Some(Vertices::Mesh(m)) => Some(Arc::clone(m)),
+            _ => None,
+        };
+        let sources: Vec<_> = placed
+            .iter()
+            .filter_map(|&(k, first)| Some((k, first, source(k)?)))
+            .collect();
+        let mut table = VertexTable::default();
+        let any = |has: fn(&Mesh) -> bool| sources.iter().any(|(_, _, m)| has(m));
+        let size = |has: bool| if has { len } else { 0 };
+        table.normals = vec![Vec3::ZERO; size(any(|m| !m.normals.is_empty()))];
+        table.colors = vec![Rgb::ZERO; size(any(|m| !m.colors.is_empty()))];
+        table.uvs = vec![Vec2::ZERO; size(any(|m| !m.uvs.is_empty()))];
+        table.uvs1 = vec![Vec2::ZERO; size(any(|m| !m.uvs1.is_empty()))];
+        for (_, first, m) in &sources {
+            let rows = new_of.get(*first as usize..).unwrap_or_default();
+            move_rows(&mut table.normals, &m.normals, rows);
+            move_rows(&mut table.colors, &m.colors, rows);
+            move_rows(&mut table.uvs, &m.uvs, rows);
+            move_rows(&mut table.uvs1, &m.uvs1, rows);
+        }
+        let table = Arc::new(table);
+        for (k, _, m) in sources {
+            meshes[k as usize].vertices = Vertices::Table {
+                table: Arc::clone(&table),
+                normals: !m.normals.is_empty(),
+                colors: !m.colors.is_empty(),
+                uvs1: !m.uvs1.is_empty(),
+            };
         }
     }
 
     /// Empty (flat shading) or one per vertex.
     #[inline]
     pub(crate) fn normals(&self) -> &[Vec3] {
-        &self.mesh.normals
+        match &self.vertices {
+            Vertices::Mesh(m) => &m.normals,
+            Vertices::Table { table, normals, .. } => when(*normals, &table.normals),
+        }
     }
 
     /// Empty, or one albedo per vertex.
     #[inline]
     pub(crate) fn colors(&self) -> &[Rgb] {
-        &self.mesh.colors
+        match &self.vertices {
+            Vertices::Mesh(m) => &m.colors,
+            Vertices::Table { table, colors, .. } => when(*colors, &table.colors),
+        }
     }
 
-    /// Vertex indices of each triangle.
+    /// The vertex indices of triangle `tri`: the mesh's own, or `grid`
+    /// (the grid primitive's) when the arrays are renumbered like it.
     #[inline]
-    pub(crate) fn triangles(&self) -> &[[u32; 3]] {
-        &self.mesh.triangles
+    pub(crate) fn corners(&self, tri: u32, grid: Option<[u32; 3]>) -> Option<[u32; 3]> {
+        match &self.vertices {
+            Vertices::Mesh(m) => m.triangles.get(tri as usize).copied(),
+            Vertices::Table { .. } => grid,
+        }
     }
 
     /// Empty (untextured) or one per vertex.
     #[inline]
-    pub(crate) fn uvs(&self) -> &[glam::Vec2] {
-        if self.textured {
-            &self.mesh.uvs
-        } else {
-            &[]
+    pub(crate) fn uvs(&self) -> &[Vec2] {
+        match &self.vertices {
+            Vertices::Mesh(m) => when(self.textured, &m.uvs),
+            Vertices::Table { table, .. } => when(self.textured, &table.uvs),
         }
     }
 
     /// The second texture-coordinate set: empty, or one per vertex.
     #[inline]
-    pub(crate) fn uvs1(&self) -> &[glam::Vec2] {
-        if self.textured {
-            &self.mesh.uvs1
-        } else {
-            &[]
+    pub(crate) fn uvs1(&self) -> &[Vec2] {
+        match &self.vertices {
+            Vertices::Mesh(m) => when(self.textured, &m.uvs1),
+            Vertices::Table { table, uvs1, .. } => when(self.textured && *uvs1, &table.uvs1),
+        }
+    }
+}
+
+/// `rows` when `has`, else nothing.
+#[inline]
+fn when<T>(has: bool, rows: &[T]) -> &[T] {
+    if has {
+        rows
+    } else {
+        &[]
+    }
+}
+
+/// Copies `from[i]` to `to[new_of[i]]` for every vertex `i` that has a
+/// row (nothing when either array is empty).
+fn move_rows<T: Copy>(to: &mut [T], from: &[T], new_of: &[u32]) {
+    for (v, &n) in from.iter().zip(new_of) {
+        if let Some(row) = to.get_mut(n as usize) {
+            *row = *v;
         }
     }
 }

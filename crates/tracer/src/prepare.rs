@@ -485,6 +485,8 @@ fn convert(
             Out::Shapes(Vec::with_capacity(count))
         };
         let mut grids: HashMap<*const Mesh, Arc<MeshGrid>> = HashMap::new();
+        // Indexed triangles: (shading data, first vertex) of each mesh.
+        let mut placed = Vec::new();
         for o in &scene.objects {
             let first = shapes.len();
             let flat = match &o.geometry {
@@ -556,6 +558,9 @@ fn convert(
                     (data.meshes.len() - 1) as u32
                 };
                 let first = shapes.add_vertices(&m.positions);
+                if mesh_id != u32::MAX {
+                    placed.push((mesh_id, first));
+                }
                 for (t, &v) in m.triangles.iter().enumerate() {
                     if !shapes.push_triangle(&m.positions, first, v) {
                         continue;
@@ -576,7 +581,11 @@ fn convert(
         stats.shared_meshes = grids.len();
         stats.bytes = grids.values().map(|g| g.bytes()).sum::<usize>()
             + stats.instances * std::mem::size_of::<Instance>();
-        shapes.finish()
+        let (prims, renumbered) = shapes.finish();
+        if let Some((new_of, len)) = renumbered {
+            MeshShading::renumber(&mut data.meshes, &placed, &new_of, len);
+        }
+        prims
     };
     data.prim_material = match uniform {
         Some(m) => PrimMaterials::Uniform(m),
@@ -715,7 +724,7 @@ mod tests {
         .unwrap();
         let shading = &p.data.meshes[0];
         assert_eq!(shading.normals().as_ptr(), mesh.normals.as_ptr());
-        assert_eq!(shading.triangles().as_ptr(), mesh.triangles.as_ptr());
+        assert_eq!(shading.corners(1, None), Some(mesh.triangles[1]));
         // The scene's, the test's and the shading's references.
         assert_eq!(Arc::strong_count(&mesh), 3);
         // Primitive 0 is the sphere; 1 and 2 the quad's triangles 0 and 2.

@@ -4,11 +4,13 @@
 
 use crate::common::{
     ambient, directional, empty_scene, material, matte, object, opts, render, render_with,
+    uv_sphere,
 };
 use gridrt_grid::{Real, Vec3};
 use gridrt_tracer::texture::{AlphaMode, Checker, ImageTexture, Sampler, TexFilter};
 use gridrt_tracer::{
-    AccelKind, Geometry, MaterialMaps, Mesh, Projection, Rgb, Scene, Texture, TextureRef,
+    AccelKind, Affine, Geometry, MaterialMaps, Mesh, Projection, Rgb, Scene, Texture, TextureRef,
+    TriangleStorage,
 };
 use std::sync::Arc;
 
@@ -285,4 +287,75 @@ fn vertex_colours_replace_the_albedo_and_interpolate() {
         (mid.x - 0.5).abs() < 0.1 && (mid.y - 0.5).abs() < 0.1,
         "{mid}"
     );
+}
+
+/// Indexed triangles read normals, colours and both texture-coordinate
+/// sets from one table renumbered like the grid's vertices: every mesh
+/// must still find its own rows, whichever arrays it has.
+#[test]
+fn indexed_triangles_shade_like_copies() {
+    let mut s = top_view(40, 40);
+    s.camera.projection = Projection::Orthographic { height: 3.0 };
+    let textured = material(&mut s, matte(Rgb::ONE, 0.3, 0.7));
+    let plain = material(&mut s, matte(Rgb::splat(0.6), 0.3, 0.7));
+    s.lights.push(ambient(0.5));
+    s.lights
+        .push(directional(Vec3::new(1.0, -2.0, 0.5), 1.0, true));
+    s.textures.list.push(image(2, 2, &QUADRANTS, NEAREST));
+    s.textures.maps.push(MaterialMaps {
+        base_color: Some(TextureRef {
+            set: 1,
+            ..TextureRef::new(0)
+        }),
+        ..MaterialMaps::default()
+    });
+    // A textured quad with a second coordinate set, a smaller one with
+    // colours only, a flat triangle with nothing, and a smooth sphere
+    // placed by a transform (baked: the scene stays triangles alone).
+    let mut q = quad(1.4, 0.0, 2.0);
+    if let Geometry::Mesh(m) = &mut q {
+        let m = Arc::make_mut(m);
+        m.uvs1 = m
+            .uvs
+            .iter()
+            .map(|t| glam::Vec2::new(t.y, t.x) * 0.7)
+            .collect();
+    }
+    object(&mut s, q, textured);
+    let mut c = quad(0.5, 0.2, 1.0);
+    if let Geometry::Mesh(m) = &mut c {
+        let m = Arc::make_mut(m);
+        m.uvs.clear();
+        m.colors = vec![Rgb::X, Rgb::Y, Rgb::Z, Rgb::ONE];
+    }
+    object(&mut s, c, plain);
+    let flat = Mesh {
+        name: "flat".into(),
+        positions: vec![
+            Vec3::new(-1.3, 0.3, 1.3),
+            Vec3::new(-0.6, 0.3, 1.3),
+            Vec3::new(-1.3, 0.3, 0.6),
+        ],
+        triangles: vec![[0, 1, 2]],
+        ..Default::default()
+    };
+    object(&mut s, Geometry::Mesh(Arc::new(flat)), plain);
+    let ball = Geometry::Instance {
+        mesh: Arc::new(uv_sphere(Vec3::ZERO, 0.4, 12, 8)),
+        to_world: Box::new(Affine::translation(Vec3::new(0.8, 0.5, -0.8))),
+    };
+    object(&mut s, ball, plain);
+    let mut o = opts(AccelKind::Grid, Some(2));
+    o.instancing = false;
+    let (want, _) = render_with(&s, &o);
+    o.triangles = TriangleStorage::Indexed;
+    let r = gridrt_tracer::Renderer::new(&s, &o).unwrap();
+    assert!(format!("{r:?}").contains("indexed triangles"));
+    let (img, _) = r.render(&|_, _| {}, &Default::default()).unwrap();
+    assert!(img == want);
+    // The scene shows each kind: texels of more than two colours, and
+    // vertex colours.
+    let distinct = |f: &dyn Fn(&Rgb) -> bool| img.pixels.iter().filter(|p| f(p)).count();
+    assert!(distinct(&|p| p.x > 2.0 * p.y + 0.05) > 10);
+    assert!(distinct(&|p| p.z > 2.0 * p.x + 0.05) > 10);
 }

@@ -106,12 +106,19 @@ impl Out {
     }
 
     /// The primitives; indexed triangles get their vertices renumbered in
-    /// the triangles' spatial order ([`MeshVertices::renumber`]).
-    pub(super) fn finish(self) -> Prims {
+    /// the triangles' spatial order ([`MeshVertices::renumber`]), and then
+    /// the renumbering comes too: each old vertex's new number
+    /// (`u32::MAX`: unused), and how many vertices are left.
+    pub(super) fn finish(self) -> (Prims, Option<(Vec<u32>, usize)>) {
         match self {
-            Out::Triangles(v) => Prims::Triangles(v),
-            Out::Mesh(verts, mut v) => Prims::Mesh(verts.in_spatial_order(&mut v), v),
-            Out::Shapes(v) => Prims::Shapes(v),
+            Out::Triangles(v) => (Prims::Triangles(v), None),
+            Out::Mesh(verts, mut v) => {
+                let order = gridrt_grid::spatial_order(&v, &verts);
+                let (verts, new_of) = verts.renumber(&mut v, &order);
+                let len = verts.len();
+                (Prims::Mesh(verts, v), Some((new_of, len)))
+            }
+            Out::Shapes(v) => (Prims::Shapes(v), None),
         }
     }
 }

@@ -315,6 +315,11 @@ impl Surface for MeshTriangle {
     fn surface(&self, verts: &MeshVertices, _: &Ray, h: &PrimHit) -> SurfacePoint {
         surface_point(self.vertices(verts), h)
     }
+
+    #[inline]
+    fn vertex_indices(&self) -> Option<[u32; 3]> {
+        Some(self.indices())
+    }
 }
 
 #[cfg(test)]

@@ -57,6 +57,12 @@ pub(crate) trait Surface: Primitive {
     fn instance(&self) -> Option<&Instance> {
         None
     }
+
+    /// The vertex indices of this primitive, if it is an indexed triangle.
+    #[inline]
+    fn vertex_indices(&self) -> Option<[u32; 3]> {
+        None
+    }
 }
 
 /// The bounded shapes in one enum, for scenes that mix them (static
