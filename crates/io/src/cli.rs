@@ -437,15 +437,16 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
     a.view.apply(&mut loaded)?;
     a.effects.apply(&mut loaded.scene.settings);
     let options = a.intersect.options(a.accel.options(a.threads), &a.offset);
-    let renderer = Renderer::new(&loaded.scene, &options).map_err(|e| Error::Render {
-        path: loaded.source.clone(),
-        msg: e.to_string(),
-    })?;
-    // The renderer keeps what it needs of the scene: what the report and
-    // a part's file say of it is taken now, and its geometry let go.
+    // The renderer keeps what it needs of the scene's objects and lets the
+    // rest go before its grid takes memory: what the report and a part's
+    // file say of them is taken first.
     let counts = SceneCounts::of(&loaded.scene);
     let fingerprint = a.part.spec().map(|_| crate::fingerprint(&loaded.scene));
-    loaded.scene.objects = Vec::new();
+    let renderer =
+        Renderer::new_taking_objects(&mut loaded.scene, &options).map_err(|e| Error::Render {
+            path: loaded.source.clone(),
+            msg: e.to_string(),
+        })?;
 
     let bar = progress_bar();
     // Pixels are kept as they come only for partial images.

@@ -20,6 +20,7 @@ use gridrt_bbox::{Ray, Real, Vec3};
 use gridrt_grid::{Accelerator, Exhaustive, Grid, GridConfig, GridStats};
 use std::fmt;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Mutex, PoisonError};
 use std::time::{Duration, Instant};
 
 /// Which accelerator answers the ray queries.
@@ -109,6 +110,15 @@ impl fmt::Debug for Renderer {
     }
 }
 
+/// The grids of shared meshes: like the scene's (the exhaustive
+/// accelerator, a reference for the scene's level, keeps them).
+fn mesh_grid_config(options: &RenderOptions, parallel: bool) -> GridConfig {
+    grid_config(options, parallel).unwrap_or(GridConfig {
+        parallel_build: parallel,
+        ..options.grid
+    })
+}
+
 impl Renderer {
     /// Validates the scene, derives the effect plan and builds the
     /// accelerator (in parallel when threads allow).
@@ -118,13 +128,49 @@ impl Renderer {
     pub fn new(scene: &Scene, options: &RenderOptions) -> Result<Renderer, SceneError> {
         let start = Instant::now();
         let pool = Pool::new(options.threads);
+        let prepared = Self::prepare(scene, options, &pool)?;
+        Ok(Self::build(prepared, options, pool, start))
+    }
+
+    /// [`Renderer::new`], but `scene.objects` is emptied as soon as the
+    /// scene is converted, before the accelerator is built: whatever the
+    /// renderer does not share with the scene (with
+    /// [`TriangleStorage::Indexed`](crate::TriangleStorage::Indexed), the
+    /// meshes' arrays) is freed before the grid takes its memory.
+    ///
+    /// # Errors
+    /// A [`SceneError`] naming the first problem found (`scene` is then
+    /// left as it was).
+    pub fn new_taking_objects(
+        scene: &mut Scene,
+        options: &RenderOptions,
+    ) -> Result<Renderer, SceneError> {
+        let start = Instant::now();
+        let pool = Pool::new(options.threads);
+        let prepared = Self::prepare(scene, options, &pool)?;
+        scene.objects = Vec::new();
+        Ok(Self::build(prepared, options, pool, start))
+    }
+
+    /// Validation and conversion: everything before the accelerator.
+    fn prepare(
+        scene: &Scene,
+        options: &RenderOptions,
+        pool: &Pool,
+    ) -> Result<Prepared, SceneError> {
+        let mesh_grid = mesh_grid_config(options, pool.is_parallel());
+        pool.install(|| {
+            prepare(
+                scene,
+                options.instancing.then_some(&mesh_grid),
+                options.triangles,
+            )
+        })
+    }
+
+    /// The accelerator over prepared primitives, and the renderer.
+    fn build(prepared: Prepared, options: &RenderOptions, pool: Pool, start: Instant) -> Renderer {
         let parallel = pool.is_parallel();
-        // Shared meshes get grids like the scene's (the exhaustive
-        // accelerator, a reference for the scene's level, keeps them).
-        let mesh_grid = grid_config(options, parallel).unwrap_or(GridConfig {
-            parallel_build: parallel,
-            ..options.grid
-        });
         let Prepared {
             mut data,
             prims,
@@ -134,13 +180,7 @@ impl Renderer {
             height,
             spp,
             instancing,
-        } = pool.install(|| {
-            prepare(
-                scene,
-                options.instancing.then_some(&mesh_grid),
-                options.triangles,
-            )
-        })?;
+        } = prepared;
         data.ray_offset = options.ray_offset;
         let prims = with_triangle_test(prims, options.triangle_test);
         let prim_count = prims.len() + data.planes.len();
@@ -177,7 +217,7 @@ impl Renderer {
             }
         });
         let filter = FilterTable::new(plan.filter);
-        Ok(Renderer {
+        Renderer {
             accel,
             data,
             camera,
@@ -191,7 +231,7 @@ impl Renderer {
             prim_count,
             instancing,
             pool,
-        })
+        }
     }
 
     /// The effects this renderer simulates.
@@ -510,7 +550,6 @@ struct Tile {
 }
 
 struct TileOut {
-    tile: Tile,
     pixels: Vec<Rgb>,
     rays: RayCounts,
     hits: u64,
@@ -692,6 +731,9 @@ impl Job<'_> {
             live.start(out_width, height, tiles.iter().map(rect).collect());
         }
         let indexed: Vec<(usize, Tile)> = tiles.into_iter().enumerate().collect();
+        // Each tile goes into the image as soon as it is done, so the
+        // finished tiles never all wait beside the image.
+        let image = Mutex::new(Framebuffer::new(out_width, height));
         let one = |ts: &mut ThreadState<A::Scratch>, &(index, tile): &(usize, Tile)| {
             if self.cancel.load(Ordering::Relaxed) {
                 return None;
@@ -700,10 +742,17 @@ impl Job<'_> {
             if let Some(live) = self.live {
                 live.finish_tile(index, &out.pixels, out.rays.total());
             }
+            let w = (tile.x1 - tile.x0) as usize;
+            let mut img = image.lock().unwrap_or_else(PoisonError::into_inner);
+            for (row, k) in (tile.k0..tile.k1).enumerate() {
+                let start = k * out_width as usize + (tile.x0 - self.cols.0) as usize;
+                img.pixels[start..start + w].copy_from_slice(&out.pixels[row * w..(row + 1) * w]);
+            }
+            drop(img);
             let n = out.pixels.len() as u64;
             let done = self.done.fetch_add(n, Ordering::Relaxed) + n;
             (self.progress)(done, total);
-            Some(out)
+            Some((out.rays, out.hits))
         };
         let new_state = || ThreadState {
             scratch: accel.scratch(),
@@ -713,20 +762,14 @@ impl Job<'_> {
         if self.cancel.load(Ordering::Relaxed) || outs.iter().any(Option::is_none) {
             return Err(Cancelled);
         }
-        let mut image = Framebuffer::new(out_width, height);
         let mut rays = RayCounts::default();
         let mut pixels_hit = 0;
-        for o in outs.into_iter().flatten() {
-            let w = (o.tile.x1 - o.tile.x0) as usize;
-            for (row, k) in (o.tile.k0..o.tile.k1).enumerate() {
-                let start = k * out_width as usize + (o.tile.x0 - self.cols.0) as usize;
-                image.pixels[start..start + w].copy_from_slice(&o.pixels[row * w..(row + 1) * w]);
-            }
-            rays += o.rays;
-            pixels_hit += o.hits;
+        for (r, hits) in outs.into_iter().flatten() {
+            rays += r;
+            pixels_hit += hits;
         }
         Ok(Output {
-            image,
+            image: image.into_inner().unwrap_or_else(PoisonError::into_inner),
             rays,
             pixels_hit,
         })
@@ -828,7 +871,6 @@ impl Job<'_> {
             }
         }
         TileOut {
-            tile,
             pixels,
             rays: ts.counts,
             hits,

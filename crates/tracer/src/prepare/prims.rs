@@ -114,7 +114,7 @@ impl Out {
             Out::Triangles(v) => (Prims::Triangles(v), None),
             Out::Mesh(verts, mut v) => {
                 let order = gridrt_grid::spatial_order(&v, &verts);
-                let (verts, new_of) = verts.renumber(&mut v, &order);
+                let (verts, new_of) = verts.renumber(&mut v, order);
                 let len = verts.len();
                 (Prims::Mesh(verts, v), Some((new_of, len)))
             }

@@ -40,9 +40,9 @@ impl MeshVertices {
     /// `tris` ([`spatial_order`](gridrt_grid::spatial_order)), `tris`
     /// rewritten to match.
     #[must_use]
-    pub fn in_spatial_order(&self, tris: &mut [MeshTriangle]) -> Self {
-        let order = gridrt_grid::spatial_order(tris, self);
-        self.renumber(tris, &order).0
+    pub fn in_spatial_order(self, tris: &mut [MeshTriangle]) -> Self {
+        let order = gridrt_grid::spatial_order(tris, &self);
+        self.renumber(tris, order).0
     }
 
     /// How many vertices there are.
@@ -90,29 +90,44 @@ impl MeshVertices {
     ///
     /// In a spatial order, the vertices of neighbouring triangles end up
     /// side by side, so that the triangles of one grid cell load few
-    /// cache lines, whatever order the file had.
+    /// cache lines, whatever order the file had. The vertices move in
+    /// place, and `order` is freed before they do: no second array is
+    /// made.
     ///
     /// # Panics
     ///
     /// If a triangle does not belong to this array.
     #[must_use]
-    pub fn renumber(&self, tris: &mut [MeshTriangle], order: &[u32]) -> (Self, Vec<u32>) {
+    pub fn renumber(mut self, tris: &mut [MeshTriangle], order: Vec<u32>) -> (Self, Vec<u32>) {
         let mut new_of = vec![u32::MAX; self.0.len()];
-        let mut out = Vec::with_capacity(self.0.len());
-        for &t in order {
+        let mut kept = 0;
+        for &t in &order {
             let t = &mut tris[t as usize];
             let flag = t.v[0] & DEGENERATE;
             let v = t.indices().map(|i| {
                 let n = &mut new_of[i as usize];
                 if *n == u32::MAX {
-                    *n = out.len() as u32;
-                    out.push(self.0[i as usize]);
+                    *n = kept;
+                    kept += 1;
                 }
                 *n
             });
             t.v = [v[0] | flag, v[1], v[2]];
         }
-        (Self(out), new_of)
+        drop(order);
+        // Swaps along the permutation's cycles: each swap puts one vertex
+        // in its place for good; dropped vertices end up past the kept.
+        let mut to = new_of.clone();
+        for i in 0..to.len() {
+            while to[i] != u32::MAX && to[i] as usize != i {
+                let j = to[i] as usize;
+                self.0.swap(i, j);
+                to.swap(i, j);
+            }
+        }
+        self.0.truncate(kept as usize);
+        self.0.shrink_to_fit();
+        (self, new_of)
     }
 }
 
@@ -336,7 +351,7 @@ mod tests {
         let mut tris =
             MeshTriangle::from_indices(&verts, &[[0, 1, 2], [3, 2, 1], [0, 1, 0]]).unwrap();
         let before: Vec<_> = tris.iter().map(|t| t.vertices(&verts)).collect();
-        let (v2, new_of) = verts.renumber(&mut tris, &[1, 2, 0]);
+        let (v2, new_of) = verts.renumber(&mut tris, vec![1, 2, 0]);
         assert_eq!(new_of, [3, 2, 1, 0, u32::MAX, u32::MAX]);
         assert_eq!(v2.len(), 4);
         assert_eq!(tris[1].indices(), [0, 1, 2]);
@@ -383,6 +398,46 @@ mod tests {
             }
         }
         (MeshVertices::new(p), idx)
+    }
+
+    proptest! {
+        /// Renumbering in any order keeps every triangle's vertices, keeps
+        /// exactly the used vertices, numbered by first use, and agrees
+        /// with the new index it reports for each old vertex.
+        #[test]
+        fn renumbering_keeps_every_triangle(
+            n in 3usize..40,
+            idx in prop::collection::vec(prop::array::uniform3(0u32..40), 1..30),
+            order_seed in any::<u64>(),
+        ) {
+            let p: Vec<Vec3> = (0..n).map(|i| Vec3::new(i as Real, (i * i) as Real, 1.0)).collect();
+            let idx: Vec<[u32; 3]> = idx.iter().map(|t| t.map(|i| i % n as u32)).collect();
+            let verts = MeshVertices::new(p.clone());
+            let mut tris = MeshTriangle::from_indices(&verts, &idx).unwrap();
+            let mut order: Vec<u32> = (0..tris.len() as u32).collect();
+            let mut s = order_seed;
+            for i in (1..order.len()).rev() {
+                s = s.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+                order.swap(i, (s >> 33) as usize % (i + 1));
+            }
+            let (v2, new_of) = verts.renumber(&mut tris, order.clone());
+            let used: std::collections::BTreeSet<u32> = idx.iter().flatten().copied().collect();
+            prop_assert_eq!(v2.len(), used.len());
+            for (t, old) in tris.iter().zip(&idx) {
+                prop_assert_eq!(t.vertices(&v2), old.map(|i| p[i as usize]));
+                prop_assert_eq!(t.indices(), old.map(|i| new_of[i as usize]));
+            }
+            let mut seen = 0;
+            for &k in &order {
+                for i in tris[k as usize].indices() {
+                    prop_assert!(i <= seen);
+                    seen = seen.max(i + 1);
+                }
+            }
+            for (i, &n) in new_of.iter().enumerate() {
+                prop_assert_eq!(n == u32::MAX, !used.contains(&(i as u32)));
+            }
+        }
     }
 
     proptest! {
