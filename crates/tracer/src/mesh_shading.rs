@@ -72,16 +72,12 @@ impl MeshShading {
 
     /// Moves the per-vertex arrays of the meshes `placed` (index in
     /// `meshes`, and the number of the mesh's first vertex before
-    /// renumbering) into one [`VertexTable`] of `len` rows: old vertex `i`
-    /// becomes row `new_of[i]` (`u32::MAX`: used by no triangle). The
+    /// renumbering) into one [`VertexTable`]: old vertex `i` becomes row
+    /// `new_of[i]` (`u32::MAX`: used by no triangle). The
     /// meshes then no longer hold the scene's arrays, and read their
     /// corners from the grid's triangles.
-    pub(crate) fn renumber(
-        meshes: &mut [MeshShading],
-        placed: &[(u32, u32)],
-        new_of: &[u32],
-        len: usize,
-    ) {
+    pub(crate) fn renumber(meshes: &mut [MeshShading], placed: &[(u32, u32)], new_of: &[u32]) {
+        let len = new_of.iter().filter(|&&n| n != u32::MAX).count();
         let source = |k: u32| match meshes.get(k as usize).map(|m| &m.vertices) {
             Some(Vertices::Mesh(m)) => Some(Arc::clone(m)),
             _ => None,

@@ -582,8 +582,8 @@ fn convert(
         stats.bytes = grids.values().map(|g| g.bytes()).sum::<usize>()
             + stats.instances * std::mem::size_of::<Instance>();
         let (prims, renumbered) = shapes.finish();
-        if let Some((new_of, len)) = renumbered {
-            MeshShading::renumber(&mut data.meshes, &placed, &new_of, len);
+        if let Some(new_of) = renumbered {
+            MeshShading::renumber(&mut data.meshes, &placed, &new_of);
         }
         prims
     };

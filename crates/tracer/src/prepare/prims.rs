@@ -108,15 +108,14 @@ impl Out {
     /// The primitives; indexed triangles get their vertices renumbered in
     /// the triangles' spatial order ([`MeshVertices::renumber`]), and then
     /// the renumbering comes too: each old vertex's new number
-    /// (`u32::MAX`: unused), and how many vertices are left.
-    pub(super) fn finish(self) -> (Prims, Option<(Vec<u32>, usize)>) {
+    /// (`u32::MAX`: unused).
+    pub(super) fn finish(self) -> (Prims, Option<Vec<u32>>) {
         match self {
             Out::Triangles(v) => (Prims::Triangles(v), None),
             Out::Mesh(verts, mut v) => {
                 let order = gridrt_grid::spatial_order(&v, &verts);
                 let (verts, new_of) = verts.renumber(&mut v, order);
-                let len = verts.len();
-                (Prims::Mesh(verts, v), Some((new_of, len)))
+                (Prims::Mesh(verts, v), Some(new_of))
             }
             Out::Shapes(v) => (Prims::Shapes(v), None),
         }
