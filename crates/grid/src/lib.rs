@@ -132,7 +132,7 @@ pub use dda::{CellIter, CellVisit};
 pub use exhaustive::Exhaustive;
 pub use grid::{Grid, GridScratch};
 pub use gridrt_bbox::{Aabb, Ray, Real, SlabTest, Vec3};
-pub use order::spatial_order;
+pub use order::{spatial_order, spatial_order_iter};
 
 /// The README's Rust examples, compiled and run as doc tests.
 #[cfg(doctest)]

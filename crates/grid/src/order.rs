@@ -30,6 +30,16 @@ use gridrt_bbox::Aabb;
 /// ```
 #[must_use]
 pub fn spatial_order<P: Primitive>(prims: &[P], shared: &P::Shared) -> Vec<u32> {
+    spatial_order_iter(prims, shared).collect()
+}
+
+/// [`spatial_order`] as it is read, for callers that go through it once:
+/// it holds one sorted 8-byte key per primitive and no second array, where
+/// `spatial_order` briefly needs both (12 bytes a primitive at the peak).
+pub fn spatial_order_iter<P: Primitive>(
+    prims: &[P],
+    shared: &P::Shared,
+) -> impl ExactSizeIterator<Item = u32> {
     // The boxes are computed twice rather than stored: the order is for
     // large scenes, whose peak memory it should not raise.
     let scene = prims
@@ -60,7 +70,7 @@ pub fn spatial_order<P: Primitive>(prims: &[P], shared: &P::Shared) -> Vec<u32> 
         })
         .collect();
     keyed.sort_unstable();
-    keyed.into_iter().map(|k| k as u32).collect()
+    keyed.into_iter().map(|k| k as u32)
 }
 
 #[cfg(test)]

@@ -5,7 +5,8 @@ pub use crate::cli_access::AccessArgs;
 use crate::cli_counts::SceneCounts;
 pub use crate::cli_effects::{EffectArgs, SamplerArg};
 use crate::cli_outputs::{
-    pass_paths, render_part, render_watched, save_interrupted, stage_rendered, Rendered,
+    pass_paths, render_part, render_passes, render_watched, save_interrupted, stage_rendered,
+    Rendered,
 };
 pub use crate::cli_outputs::{AovArgs, AovList, DiffArgs, MergeArgs, PartArgs, PartialArgs};
 pub use crate::cli_robustness::{
@@ -21,7 +22,9 @@ use crate::scene::{default_scene, load_scene_in, LoadedScene, DEFAULT_SCENE_NAME
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use gridrt_bbox::{Aabb, Real, Vec3};
 use gridrt_grid::{CellStorage, GridConfig, GridStats, QueryCounters, HIERARCHY_MIN_REFS};
-use gridrt_tracer::{AccelKind, Light, Projection, RenderOptions, RenderStats, Renderer};
+use gridrt_tracer::{
+    AccelKind, AovImage, Light, Projection, RenderOptions, RenderStats, Renderer, TriangleStorage,
+};
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -393,6 +396,14 @@ fn same_file(a: &Path, b: &Path) -> bool {
     crate::sandbox::canonical(a) == crate::sandbox::canonical(b)
 }
 
+/// `871307 primitives, triangles indexed`.
+fn primitives_text(n: usize, storage: Option<TriangleStorage>) -> String {
+    match storage {
+        Some(s) => format!("{n} primitives, triangles {}", cli_stats::storage_name(s)),
+        None => format!("{n} primitives"),
+    }
+}
+
 /// Prints warnings, control characters escaped.
 pub(crate) fn warn(warnings: &[String]) {
     let mut e = std::io::stderr().lock();
@@ -417,12 +428,12 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
              `gridrt merge` turns the parts into a .png or .exr",
         ));
     }
-    let passes = pass_paths(&a.output, a.aov.aov.as_ref());
+    let pass_files = pass_paths(&a.output, a.aov.aov.as_ref());
     if let Some(s) = &a.stats {
         check_output_dir(s)?;
     }
     let mut outputs = vec![("-o", a.output.as_path())];
-    outputs.extend(passes.iter().map(|p| ("--aov", p.as_path())));
+    outputs.extend(pass_files.iter().map(|p| ("--aov", p.as_path())));
     if let Some(s) = &a.stats {
         outputs.push(("--stats", s.as_path()));
     }
@@ -489,17 +500,7 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
         .stats
         .as_ref()
         .map(|_| cli_stats::camera_counters(&renderer));
-    // Both outputs are written to temporary files first; they are renamed
-    // into place only when both are complete, so a failure keeps both old
-    // files byte for byte.
-    WRITING.store(true, Ordering::SeqCst);
-    let scene = (&loaded, &counts, fingerprint.as_deref());
-    let written = write_outputs(a, scene, &renderer, &rendered, &stats, counters, cancel);
-    WRITING.store(false, Ordering::SeqCst);
-    written?;
-    if a.quiet {
-        return Ok(());
-    }
+    let passes = render_passes(&renderer, &rendered, a.aov.aov.as_ref());
     let report = Report {
         loaded: &loaded,
         counts: &counts,
@@ -507,12 +508,28 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
         robust: a.intersect.label(Some(&a.offset)),
         threads: a.threads,
         primitives: renderer.primitive_count(),
+        storage: renderer.triangle_storage(),
         stats: &stats,
         counters,
         output: &a.output,
     };
+    let size = renderer.size();
+    // The accelerator and the scene's arrays go before the image is
+    // encoded, which would otherwise add to the peak.
+    drop(renderer);
+    // Both outputs are written to temporary files first; they are renamed
+    // into place only when both are complete, so a failure keeps both old
+    // files byte for byte.
+    WRITING.store(true, Ordering::SeqCst);
+    let image = (size, &rendered, passes.as_slice(), fingerprint.as_deref());
+    let written = write_outputs(a, &report, image, cancel);
+    WRITING.store(false, Ordering::SeqCst);
+    written?;
+    if a.quiet {
+        return Ok(());
+    }
     put(out, &report.text());
-    for p in passes {
+    for p in &pass_files {
         put(out, &format!("pass        {}\n", p.display()));
     }
     Ok(())
@@ -522,36 +539,17 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
 /// waits for it rather than exiting, so no temporary file is left.
 pub static WRITING: AtomicBool = AtomicBool::new(false);
 
-/// Writes the image and the statistics: both to temporary files first,
-/// renamed into place only when both are complete, so a failure (or a
-/// Ctrl-C) keeps both old files byte for byte.
+/// Writes the image (of `size` pixels, with its passes and, for a part,
+/// the scene's fingerprint) and the statistics: both to temporary files
+/// first, renamed into place only when both are complete, so a failure (or
+/// a Ctrl-C) keeps both old files byte for byte.
 fn write_outputs(
     a: &RenderArgs,
-    (loaded, counts, fingerprint): (&LoadedScene, &SceneCounts, Option<&str>),
-    renderer: &Renderer,
-    rendered: &Rendered,
-    stats: &RenderStats,
-    counters: Option<QueryCounters>,
+    report: &Report,
+    (size, rendered, passes, fingerprint): ((u32, u32), &Rendered, &[AovImage], Option<&str>),
     cancel: &AtomicBool,
 ) -> Result<()> {
-    let (image_files, _) = stage_rendered(
-        &a.output,
-        renderer,
-        rendered,
-        a.aov.aov.as_ref(),
-        fingerprint,
-    )?;
-    let report = Report {
-        loaded,
-        counts,
-        accel: a.accel,
-        robust: a.intersect.label(Some(&a.offset)),
-        threads: a.threads,
-        primitives: renderer.primitive_count(),
-        stats,
-        counters,
-        output: &a.output,
-    };
+    let image_files = stage_rendered(&a.output, size, rendered, passes, fingerprint)?;
     let stats_file = match &a.stats {
         Some(p) => {
             let json = report
@@ -598,6 +596,7 @@ struct Report<'a> {
     robust: String,
     threads: Option<u32>,
     primitives: usize,
+    storage: Option<TriangleStorage>,
     stats: &'a RenderStats,
     /// Work per camera ray (with `--stats` only).
     counters: Option<QueryCounters>,
@@ -620,6 +619,9 @@ struct StatsJson<'a> {
     threads: Option<u32>,
     objects: usize,
     triangles: usize,
+    /// How the grid stored them: `copies` or `indexed` (`null` for scenes
+    /// of other shapes).
+    triangle_storage: Option<&'static str>,
     primitives: usize,
     rays_total: u64,
     mrays_per_sec: f64,
@@ -674,6 +676,7 @@ impl Report<'_> {
             threads: self.threads,
             objects: self.counts.objects,
             triangles: self.counts.triangles,
+            triangle_storage: self.storage.map(cli_stats::storage_name),
             primitives: self.primitives,
             rays_total: self.stats.rays.total(),
             mrays_per_sec: self.stats.mrays_per_sec(),
@@ -697,9 +700,9 @@ impl Report<'_> {
         );
         t += &format!("{}\n", st.plan);
         t += &format!(
-            "accel       {} ({} primitives)\n",
+            "accel       {} ({})\n",
             accel_label(&self.accel, st.grid.as_ref()),
-            self.primitives
+            primitives_text(self.primitives, self.storage)
         );
         if !self.robust.is_empty() {
             t += &format!("robustness  off: {}\n", self.robust);
@@ -836,9 +839,9 @@ fn info(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
     })?;
     t += &format!("{}\n", renderer.plan());
     t += &format!(
-        "accel       {} ({} primitives)\n",
+        "accel       {} ({})\n",
         accel_label(&a.accel, renderer.grid_stats()),
-        renderer.primitive_count()
+        primitives_text(renderer.primitive_count(), renderer.triangle_storage())
     );
     if let Some(g) = renderer.grid_stats() {
         t += &grid_line(g);

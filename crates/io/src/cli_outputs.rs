@@ -6,7 +6,9 @@ use crate::diff::{diff_files, kind_name, write_diff_image, ImageValues};
 use crate::error::{Error, Result};
 use crate::parts::{merge_parts, PartSpec};
 use clap::Args;
-use gridrt_tracer::{Aov, Cancelled, Framebuffer, LiveImage, PixelRect, RenderStats, Renderer};
+use gridrt_tracer::{
+    Aov, AovImage, Cancelled, Framebuffer, LiveImage, PixelRect, RenderStats, Renderer,
+};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -79,44 +81,55 @@ pub struct AovArgs {
     pub aov: Option<AovList>,
 }
 
-/// Stages what `gridrt render` writes to `output` (see [`crate::stage`]):
-/// the image, with its passes when `aovs` asks for them (extra channels of
-/// an EXR, or pictures beside a PNG), or a part of the frame. Returns the
-/// staged files and the paths of the pass pictures.
-pub(crate) fn stage_rendered(
-    output: &Path,
+/// The render passes `aovs` asks for, over the whole image: rendered
+/// before the renderer is let go (a part has none).
+pub(crate) fn render_passes(
     renderer: &Renderer,
     rendered: &Rendered,
     aovs: Option<&AovList>,
+) -> Vec<AovImage> {
+    match (rendered, aovs) {
+        (Rendered::Full(_), Some(AovList(list))) => {
+            let (w, h) = renderer.size();
+            let all = PixelRect {
+                x0: 0,
+                y0: 0,
+                x1: w,
+                y1: h,
+            };
+            renderer.render_aovs(list, all)
+        }
+        _ => Vec::new(),
+    }
+}
+
+/// Stages the image of a render of `size` pixels and its `passes`
+/// ([`render_passes`]): a part as an EXR part, a full image with its passes
+/// as EXR channels or as pictures beside a PNG.
+pub(crate) fn stage_rendered(
+    output: &Path,
+    size: (u32, u32),
+    rendered: &Rendered,
+    passes: &[AovImage],
     fingerprint: Option<&str>,
-) -> Result<(Vec<crate::Staged>, Vec<PathBuf>)> {
+) -> Result<Vec<crate::Staged>> {
     let image = match rendered {
         Rendered::Part(rects, images) => {
             let f = fingerprint.unwrap_or_default();
-            let staged = crate::stage_part(output, renderer.size(), f, rects, images)?;
-            return Ok((vec![staged], Vec::new()));
+            return Ok(vec![crate::stage_part(output, size, f, rects, images)?]);
         }
         Rendered::Full(image) => image,
     };
-    let Some(AovList(list)) = aovs else {
-        let staged = crate::stage_image(output, image.width, image.height, &image.pixels)?;
-        return Ok((vec![staged], Vec::new()));
-    };
-    let (w, h) = renderer.size();
-    let passes = renderer.render_aovs(
-        list,
-        PixelRect {
-            x0: 0,
-            y0: 0,
-            x1: w,
-            y1: h,
-        },
-    );
+    if passes.is_empty() {
+        return Ok(vec![crate::stage_image(
+            output,
+            image.width,
+            image.height,
+            &image.pixels,
+        )?]);
+    }
     if crate::ImageFormat::from_path(output)? == crate::ImageFormat::Exr {
-        Ok((
-            vec![crate::stage_exr_with_aovs(output, image, &passes)?],
-            Vec::new(),
-        ))
+        Ok(vec![crate::stage_exr_with_aovs(output, image, passes)?])
     } else {
         let mut staged = vec![crate::stage_image(
             output,
@@ -124,12 +137,8 @@ pub(crate) fn stage_rendered(
             image.height,
             &image.pixels,
         )?];
-        staged.extend(crate::stage_aov_pngs(output, &passes)?);
-        let paths = passes
-            .iter()
-            .map(|p| crate::aov_png_path(output, p.aov))
-            .collect();
-        Ok((staged, paths))
+        staged.extend(crate::stage_aov_pngs(output, passes)?);
+        Ok(staged)
     }
 }
 

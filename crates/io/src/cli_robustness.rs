@@ -32,18 +32,21 @@ pub struct IntersectArgs {
     /// overlaps. Changes no pixel; slower build; off by default.
     #[arg(long = "exact-insertion")]
     pub exact_insertion: bool,
-    /// How the grid stores a mesh's triangles: `copies` (default: each
-    /// triangle holds its three vertices, 40 bytes) or `indexed` (three
-    /// indices into one vertex array: 12 bytes, each vertex once, a
-    /// slower trace). Changes no pixel. Scenes with other shapes than
+    /// How the grid stores a mesh's triangles: `copies` (each triangle
+    /// holds its three vertices, 40 bytes), `indexed` (three indices into
+    /// one vertex array: 12 bytes, each vertex once, a slower trace) or
+    /// `auto` (the default: indexed from 262,144 triangles on, with the
+    /// watertight test). Changes no pixel. Scenes with other shapes than
     /// triangles keep copies.
-    #[arg(long, value_enum, default_value_t = TrianglesArg::Copies)]
+    #[arg(long, value_enum, default_value_t = TrianglesArg::Auto)]
     pub triangles: TrianglesArg,
 }
 
 /// `--triangles` values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum TrianglesArg {
+    /// Indexed for large meshes, copies otherwise.
+    Auto,
     /// Each triangle holds its vertices.
     Copies,
     /// Each triangle holds the indices of its vertices.
@@ -128,6 +131,7 @@ impl IntersectArgs {
     /// The library's triangle storage.
     pub(crate) fn triangle_storage(&self) -> TriangleStorage {
         match self.triangles {
+            TrianglesArg::Auto => TriangleStorage::Auto,
             TrianglesArg::Copies => TriangleStorage::Copies,
             TrianglesArg::Indexed => TriangleStorage::Indexed,
         }

@@ -111,6 +111,8 @@ pub(crate) struct RaysJson {
     pub mesh: String,
     pub rays_file: String,
     pub triangles: usize,
+    /// How the grid stored them: `copies` or `indexed`.
+    pub triangle_storage: &'static str,
     pub threads: usize,
     #[serde(flatten)]
     pub perf: Perf,
@@ -165,6 +167,15 @@ pub(crate) fn count_exhaustive<P: Primitive>(
         e.closest_hit_counted(&q.ray, q.t_min, q.t_max, &mut c);
     }
     c
+}
+
+/// The name of a triangle storage in reports: `copies` or `indexed`.
+pub(crate) fn storage_name(s: gridrt_tracer::TriangleStorage) -> &'static str {
+    match s {
+        gridrt_tracer::TriangleStorage::Auto => "auto",
+        gridrt_tracer::TriangleStorage::Copies => "copies",
+        gridrt_tracer::TriangleStorage::Indexed => "indexed",
+    }
 }
 
 #[cfg(test)]

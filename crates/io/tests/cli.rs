@@ -364,7 +364,12 @@ fn render_with_indexed_triangles_gives_the_same_image() {
             assert!(o.status.success(), "{}", stderr(&o));
             (std::fs::read(dir.path().join(&out)).unwrap(), stdout(&o))
         };
-        let (copies, _) = run("copies", &["--no-instancing"]);
+        // `--triangles auto`, the default, keeps small meshes' copies.
+        let (copies, summary) = run("copies", &["--no-instancing"]);
+        assert!(
+            summary.contains("primitives, triangles copies)"),
+            "{summary}"
+        );
         let (indexed, summary) = run("indexed", &["--no-instancing", "--triangles", "indexed"]);
         assert!(indexed == copies, "{mesh:?}");
         assert!(summary.contains("triangles indexed"), "{summary}");

@@ -105,7 +105,7 @@ mod transform;
 mod validate;
 mod whitted;
 
-pub use accel_of::TriangleStorage;
+pub use accel_of::{TriangleStorage, INDEXED_FROM};
 pub use aov::{Aov, AovImage};
 pub use error::{Cancelled, SceneError};
 pub use framebuffer::{Framebuffer, LiveImage, PixelRect};

@@ -476,7 +476,8 @@ fn convert(
                 _ => 0,
             })
             .sum();
-        let indexed = storage == TriangleStorage::Indexed && vertices <= MeshTriangle::MAX_VERTICES;
+        let indexed = storage.resolve(count) == TriangleStorage::Indexed
+            && vertices <= MeshTriangle::MAX_VERTICES;
         let mut shapes = if triangles_only && indexed {
             Out::Mesh(MeshVertices::default(), Vec::with_capacity(count))
         } else if triangles_only {

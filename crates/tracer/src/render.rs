@@ -53,7 +53,7 @@ pub struct RenderOptions {
     /// The ray–triangle test (default: watertight).
     pub triangle_test: TriangleTest,
     /// How the accelerator stores a mesh scene's triangles (default:
-    /// copies).
+    /// [`TriangleStorage::Auto`]).
     pub triangles: TriangleStorage,
     /// How secondary rays leave surfaces (default: by the error bound).
     pub ray_offset: RayOffset,
@@ -70,7 +70,7 @@ impl Default for RenderOptions {
             grid: GridConfig::default(),
             threads: None,
             triangle_test: TriangleTest::Watertight,
-            triangles: TriangleStorage::Copies,
+            triangles: TriangleStorage::Auto,
             ray_offset: RayOffset::ErrorBound,
             instancing: true,
         }
@@ -163,7 +163,7 @@ impl Renderer {
             prepare(
                 scene,
                 options.instancing.then_some(&mesh_grid),
-                options.triangles,
+                options.triangles.for_test(options.triangle_test),
             )
         })
     }
@@ -265,6 +265,19 @@ impl Renderer {
     #[must_use]
     pub fn primitive_count(&self) -> usize {
         self.prim_count
+    }
+
+    /// How the accelerator stores triangles: [`TriangleStorage::Copies`]
+    /// or [`TriangleStorage::Indexed`] for a scene of mesh triangles alone,
+    /// `None` for other scenes and for the Möller–Trumbore test (whose
+    /// primitives are shapes).
+    #[must_use]
+    pub fn triangle_storage(&self) -> Option<TriangleStorage> {
+        match self.accel {
+            Accel::Triangles(_) => Some(TriangleStorage::Copies),
+            Accel::Mesh(_) => Some(TriangleStorage::Indexed),
+            Accel::Spheres(_) | Accel::Shapes(_) => None,
+        }
     }
 
     /// The image size in pixels, `(width, height)`.

@@ -156,3 +156,65 @@ fn indexed_triangles_render_like_copies() {
         }
     }
 }
+
+/// `TriangleStorage::Auto`, the default, stores a mesh scene's triangles
+/// indexed from `INDEXED_FROM` triangles on, as copies below it and with
+/// the Möller–Trumbore test (as shapes); other scenes keep shapes.
+#[test]
+fn auto_storage_indexes_large_meshes() {
+    use gridrt_tracer::{Geometry, Mesh, Scene, TriangleStorage, TriangleTest, INDEXED_FROM};
+    use std::sync::Arc;
+    // A flat sheet of `2·k²` triangles facing the camera.
+    let sheet = |k: u32| {
+        let n = k + 1;
+        let positions = (0..n * n)
+            .map(|i| {
+                Vec3::new(
+                    (i % n) as Real / k as Real,
+                    (i / n) as Real / k as Real,
+                    -1.0,
+                )
+            })
+            .collect();
+        let mut triangles = Vec::new();
+        for y in 0..k {
+            for x in 0..k {
+                let v = y * n + x;
+                triangles.push([v, v + 1, v + n + 1]);
+                triangles.push([v, v + n + 1, v + n]);
+            }
+        }
+        let mut s = empty_scene(4, 4, Vec3::new(0.5, 0.5, 2.0));
+        let grey = material(&mut s, matte(Rgb::ONE, 0.2, 0.8));
+        let mesh = Mesh {
+            name: "sheet".into(),
+            positions,
+            triangles,
+            ..Default::default()
+        };
+        object(&mut s, Geometry::Mesh(Arc::new(mesh)), grey);
+        s
+    };
+    let storage = |s: &Scene, test: TriangleTest| {
+        let mut o = opts(AccelKind::Grid, Some(1));
+        o.triangle_test = test;
+        assert_eq!(o.triangles, TriangleStorage::Auto);
+        Renderer::new(s, &o).unwrap().triangle_storage()
+    };
+    let k = ((INDEXED_FROM / 2) as f64).sqrt().ceil() as u32;
+    let triangles = |k: u32| 2 * (k as usize).pow(2);
+    assert!(triangles(k) >= INDEXED_FROM && triangles(k - 1) < INDEXED_FROM);
+    let large = sheet(k);
+    assert_eq!(
+        storage(&large, TriangleTest::Watertight),
+        Some(TriangleStorage::Indexed)
+    );
+    // Möller–Trumbore triangles are copies, held as shapes.
+    assert_eq!(storage(&large, TriangleTest::MollerTrumbore), None);
+    assert_eq!(
+        storage(&sheet(k - 1), TriangleTest::Watertight),
+        Some(TriangleStorage::Copies)
+    );
+    let spheres = suffern::scene_of(suffern::sphere_set(10, suffern::DEFAULT_SEED));
+    assert_eq!(storage(&spheres, TriangleTest::Watertight), None);
+}

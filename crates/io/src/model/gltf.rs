@@ -9,7 +9,7 @@
 //! of a panic. Cyclic node graphs are rejected.
 
 use super::base64;
-use super::gltf_accessors::{read_indices, read_vec3};
+use super::gltf_accessors::{assemble, read_triangles, read_vec3};
 use super::gltf_graph;
 use super::gltf_textures;
 use super::texture_load::TextureLoader;
@@ -85,7 +85,6 @@ pub(crate) fn load(path: &Path, real: &Path, bytes: &[u8], sandbox: &Sandbox) ->
         warnings,
         stack: Vec::new(),
         vec3_cache: HashMap::new(),
-        index_cache: HashMap::new(),
     };
     let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
         Some(scene) => scene.nodes().collect(),
@@ -330,12 +329,15 @@ struct Loader<'a> {
     /// or instances (a sparse one without a buffer view included) is
     /// decoded once.
     vec3_cache: HashMap<usize, Rc<AccessorResult<[f32; 3]>>>,
-    /// Index accessors read so far.
-    index_cache: HashMap<usize, Rc<AccessorResult<u32>>>,
 }
 
 /// A decoded accessor, or why it could not be read.
 type AccessorResult<T> = std::result::Result<Vec<T>, String>;
+
+/// A glTF float triple in the tracer's precision.
+fn to_real(p: [f32; 3]) -> Vec3 {
+    Vec3::new(p[0] as Real, p[1] as Real, p[2] as Real)
+}
 
 /// `node 3 "name"`.
 fn node_label(node: &gltf::Node) -> String {
@@ -380,15 +382,6 @@ impl Loader<'_> {
         self.vec3_cache
             .entry(acc.index())
             .or_insert_with(|| Rc::new(read_vec3(acc, buffers)))
-            .clone()
-    }
-
-    /// An index accessor, read once.
-    fn indices(&mut self, acc: &gltf::Accessor) -> Rc<AccessorResult<u32>> {
-        let buffers = self.buffers;
-        self.index_cache
-            .entry(acc.index())
-            .or_insert_with(|| Rc::new(read_indices(acc, buffers)))
             .clone()
     }
 
@@ -533,26 +526,16 @@ impl Loader<'_> {
             )));
         }
         let n = raw.len();
-        let read;
-        let all: Vec<u32>;
-        let indices: &[u32] = match prim.indices() {
-            Some(acc) => {
-                read = self.indices(&acc);
-                read.as_ref()
-                    .as_ref()
-                    .map_err(|e| err(format!("indices: {e}")))?
-            }
-            None => {
-                all = (0..n as u32).collect();
-                &all
-            }
+        let triangles = match prim.indices() {
+            Some(acc) => read_triangles(&acc, mode, self.buffers)
+                .map_err(|e| err(format!("indices: {e}")))?,
+            None => assemble(&(0..n as u32).collect::<Vec<_>>(), mode),
         };
-        if let Some(&bad) = indices.iter().find(|&&i| i as usize >= n) {
+        if let Some(&bad) = triangles.iter().flatten().find(|&&i| i as usize >= n) {
             return Err(err(format!(
                 "index {bad} is out of range: the primitive has {n} vertices"
             )));
         }
-        let triangles = assemble(indices, mode);
         if triangles.is_empty() {
             self.warnings.push(format!(
                 "{}: {place}: no triangles (too few indices), skipped",
@@ -562,7 +545,7 @@ impl Loader<'_> {
         }
         let normals = match prim.get(&gltf::Semantic::Normals) {
             Some(acc) => match self.vec3(&acc).as_ref() {
-                Ok(v) if v.len() == n => v.clone(),
+                Ok(v) if v.len() == n => v.iter().map(|&p| to_real(p)).collect(),
                 _ => {
                     self.warnings.push(format!(
                         "{}: {place}: unreadable NORMAL attribute, using flat normals",
@@ -590,14 +573,8 @@ impl Loader<'_> {
                     .map_or_else(|| format!("mesh{}", mesh.index()), str::to_string),
                 prim.index()
             ),
-            positions: raw
-                .iter()
-                .map(|p| Vec3::new(p[0] as Real, p[1] as Real, p[2] as Real))
-                .collect(),
-            normals: normals
-                .iter()
-                .map(|p| Vec3::new(p[0] as Real, p[1] as Real, p[2] as Real))
-                .collect(),
+            positions: raw.iter().map(|&p| to_real(p)).collect(),
+            normals,
             uvs,
             uvs1,
             colors: Vec::new(),
@@ -723,26 +700,6 @@ fn camera(cam: &gltf::Camera, world: &DMat4) -> Option<ModelCamera> {
         },
         aspect: aspect.filter(|a| a.is_finite() && *a > 0.0),
     })
-}
-
-/// Triangles from an index list in the primitive's mode.
-fn assemble(idx: &[u32], mode: Mode) -> Vec<[u32; 3]> {
-    match mode {
-        Mode::TriangleStrip => (2..idx.len())
-            .map(|i| {
-                // Every other triangle is flipped to keep the winding.
-                if i % 2 == 0 {
-                    [idx[i - 2], idx[i - 1], idx[i]]
-                } else {
-                    [idx[i - 1], idx[i - 2], idx[i]]
-                }
-            })
-            .collect(),
-        Mode::TriangleFan => (2..idx.len())
-            .map(|i| [idx[0], idx[i - 1], idx[i]])
-            .collect(),
-        _ => idx.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect(),
-    }
 }
 
 /// Maps a glTF metallic-roughness material to ours:

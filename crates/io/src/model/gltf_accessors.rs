@@ -3,6 +3,7 @@
 //! or inconsistent file is an error, never a panic.
 
 use gltf::accessor::{DataType, Dimensions};
+use gltf::mesh::Mode;
 use std::borrow::Cow;
 
 /// Bytes per component of a data type.
@@ -139,11 +140,15 @@ fn read_uint(b: &[u8]) -> u32 {
     }
 }
 
-/// Reads an index accessor (UNSIGNED_BYTE/SHORT/INT SCALAR).
-pub(super) fn read_indices(
+/// Reads an index accessor (UNSIGNED_BYTE/SHORT/INT SCALAR) as the
+/// triangles of a primitive in `mode`. A list of triangles goes straight
+/// into its triples, with no index array beside them (on a large mesh that
+/// array would be as large as the triangles).
+pub(super) fn read_triangles(
     acc: &gltf::Accessor,
+    mode: Mode,
     buffers: &[Cow<[u8]>],
-) -> std::result::Result<Vec<u32>, String> {
+) -> std::result::Result<Vec<[u32; 3]>, String> {
     let size = component_size(acc.data_type());
     let unsigned = matches!(
         acc.data_type(),
@@ -166,5 +171,32 @@ pub(super) fn read_indices(
         .view()
         .ok_or_else(|| format!("index accessor {} has no buffer view", acc.index()))?;
     let (bytes, stride) = element_slice(&view, acc.offset(), acc.count(), size, buffers)?;
-    Ok(read_elements(bytes, stride, acc.count(), size, read_uint))
+    if matches!(mode, Mode::TriangleStrip | Mode::TriangleFan) {
+        let idx = read_elements(bytes, stride, acc.count(), size, read_uint);
+        return Ok(assemble(&idx, mode));
+    }
+    let at = |i: usize| read_uint(&bytes[i * stride..i * stride + size]);
+    Ok((0..acc.count() / 3)
+        .map(|t| [at(3 * t), at(3 * t + 1), at(3 * t + 2)])
+        .collect())
+}
+
+/// Triangles from an index list in the primitive's mode.
+pub(super) fn assemble(idx: &[u32], mode: Mode) -> Vec<[u32; 3]> {
+    match mode {
+        Mode::TriangleStrip => (2..idx.len())
+            .map(|i| {
+                // Every other triangle is flipped to keep the winding.
+                if i % 2 == 0 {
+                    [idx[i - 2], idx[i - 1], idx[i]]
+                } else {
+                    [idx[i - 1], idx[i - 2], idx[i]]
+                }
+            })
+            .collect(),
+        Mode::TriangleFan => (2..idx.len())
+            .map(|i| [idx[0], idx[i - 1], idx[i]])
+            .collect(),
+        _ => idx.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect(),
+    }
 }

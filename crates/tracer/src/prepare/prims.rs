@@ -113,7 +113,7 @@ impl Out {
         match self {
             Out::Triangles(v) => (Prims::Triangles(v), None),
             Out::Mesh(verts, mut v) => {
-                let order = gridrt_grid::spatial_order(&v, &verts);
+                let order = gridrt_grid::spatial_order_iter(&v, &verts);
                 let (verts, new_of) = verts.renumber(&mut v, order);
                 (Prims::Mesh(verts, v), Some(new_of))
             }

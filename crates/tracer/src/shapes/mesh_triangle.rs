@@ -41,7 +41,7 @@ impl MeshVertices {
     /// rewritten to match.
     #[must_use]
     pub fn in_spatial_order(self, tris: &mut [MeshTriangle]) -> Self {
-        let order = gridrt_grid::spatial_order(tris, &self);
+        let order = gridrt_grid::spatial_order_iter(tris, &self);
         self.renumber(tris, order).0
     }
 
@@ -91,17 +91,22 @@ impl MeshVertices {
     /// In a spatial order, the vertices of neighbouring triangles end up
     /// side by side, so that the triangles of one grid cell load few
     /// cache lines, whatever order the file had. The vertices move in
-    /// place, and `order` is freed before they do: no second array is
-    /// made.
+    /// place, and `order` (read once, as
+    /// [`spatial_order_iter`](gridrt_grid::spatial_order_iter) gives it) is
+    /// freed before they do: no second array is made.
     ///
     /// # Panics
     ///
     /// If a triangle does not belong to this array.
     #[must_use]
-    pub fn renumber(mut self, tris: &mut [MeshTriangle], order: Vec<u32>) -> (Self, Vec<u32>) {
+    pub fn renumber(
+        mut self,
+        tris: &mut [MeshTriangle],
+        order: impl IntoIterator<Item = u32>,
+    ) -> (Self, Vec<u32>) {
         let mut new_of = vec![u32::MAX; self.0.len()];
         let mut kept = 0;
-        for &t in &order {
+        for t in order {
             let t = &mut tris[t as usize];
             let flag = t.v[0] & DEGENERATE;
             let v = t.indices().map(|i| {
@@ -114,7 +119,6 @@ impl MeshVertices {
             });
             t.v = [v[0] | flag, v[1], v[2]];
         }
-        drop(order);
         // Swaps along the permutation's cycles: each swap puts one vertex
         // in its place for good; dropped vertices end up past the kept.
         let mut to = new_of.clone();
