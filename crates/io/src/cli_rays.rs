@@ -56,8 +56,10 @@ pub(crate) fn rays(a: &RaysArgs, out: &mut dyn Write) -> Result<()> {
     check_outputs(&outputs, &sandbox.files_read())?;
     let queries = parse_rays(&String::from_utf8_lossy(&bytes), &a.rays)?;
     let n_tris = model.triangle_count();
-    let indexed = a.intersect.triangle_test() == TriangleTest::Watertight
-        && a.intersect.triangle_storage().resolve(n_tris) == TriangleStorage::Indexed;
+    let storage = (a.intersect.triangle_storage())
+        .for_test(a.intersect.triangle_test())
+        .resolve(n_tris);
+    let indexed = storage == TriangleStorage::Indexed;
     // The triangles in the form asked for; the model goes (the grid
     // keeps what it needs).
     let prims = match (indexed, a.intersect.triangle_test()) {
@@ -95,7 +97,7 @@ pub(crate) fn rays(a: &RaysArgs, out: &mut dyn Write) -> Result<()> {
                 mesh: a.mesh.display().to_string(),
                 rays_file: a.rays.display().to_string(),
                 triangles: n_tris,
-                triangle_storage: if indexed { "indexed" } else { "copies" },
+                triangle_storage: cli_stats::storage_name(storage),
                 threads,
                 perf: Perf {
                     accel: cli_stats::chosen(a.accel.accel, run.grid.as_ref()),

@@ -49,7 +49,8 @@ impl TriangleStorage {
     /// The storage for triangles traced with `test`: indexed triangles
     /// have the watertight test alone (Möller–Trumbore would copy them
     /// back), so [`Self::Auto`] keeps copies for the other test.
-    pub(crate) fn for_test(self, test: TriangleTest) -> Self {
+    #[must_use]
+    pub fn for_test(self, test: TriangleTest) -> Self {
         match (self, test) {
             (Self::Auto, TriangleTest::MollerTrumbore) => Self::Copies,
             (s, _) => s,
