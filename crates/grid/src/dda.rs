@@ -64,6 +64,11 @@ pub(crate) trait CellFn<'a> {
     fn call(&mut self, visit: CellVisit, refs: &'a [u32]) -> ControlFlow<Self::Break>;
 }
 
+/// [`Dda::walk_far`] leaves the cube of empty cells around an empty cell
+/// only when the cell is farther than this from an occupied one: closer,
+/// the cube's exit costs more than the one or two steps it saves.
+const SKIP_FROM: u32 = 2;
+
 /// Log2 of the edge, in cells, of the blocks that [`Dda::walk_skip`] skips when empty.
 pub(crate) const MACRO_BITS: u32 = 3;
 
@@ -548,6 +553,131 @@ impl<'g> Dda<'g> {
                     to_blocks!();
                     fine = false;
                 }
+            }
+        }
+    }
+}
+
+impl Dda<'_> {
+    /// [`Dda::walk`] for the queries over a dense grid of `dims` cells with
+    /// a chessboard distance map `far` ([`crate::empty_space`]): `f` sees
+    /// the occupied cells only, in order (told by their occupancy bit). In
+    /// an empty cell `far` cells from the nearest occupied one, every cell
+    /// within `far − 1` of it along each axis is empty, so when `far`
+    /// exceeds [`SKIP_FROM`] the walk leaves that cube at once: it finds
+    /// the first crossing of the cube's far faces and brings each axis up
+    /// to it plane by plane (the walk's own crossings, so it lands in the
+    /// cell the cell-by-cell walk would reach), with no cell looked up on
+    /// the way. The skipped cells hold nothing, so the answers are those
+    /// of [`Dda::walk`].
+    #[inline(always)]
+    pub(crate) fn walk_far<'a, C: CellLookup<'a>, F: CellFn<'a>>(
+        self,
+        cells: &C,
+        dims: [u32; 3],
+        far: &[u8],
+        f: &mut F,
+    ) -> ControlFlow<F::Break> {
+        let Dda {
+            mut next,
+            base,
+            dir,
+            org,
+            inv,
+            mut idx,
+            neg,
+            t_next,
+            mut t_enter,
+            t_end,
+            ..
+        } = self;
+        let (mut key, st) = cells.start(idx, neg);
+        let [mut tx, mut ty, mut tz] = t_next;
+        let moving = [tx != INF, ty != INF, tz != INF];
+        macro_rules! step {
+            ($a:literal, $t:ident) => {{
+                idx[$a] = idx[$a].wrapping_add(dir[$a] as u32);
+                key = C::step(&st, key, $a);
+                // SAFETY: as in `advance`: the crossing was finite, so `next`
+                // pointed at an interior plane and one step stays in bounds.
+                unsafe {
+                    next[$a] = next[$a].offset(dir[$a]);
+                    $t = (*next[$a] - org[$a]) * inv[$a];
+                }
+            }};
+        }
+        loop {
+            let occupied = cells.occupied(key);
+            if !occupied {
+                debug_assert!((key as usize) < far.len());
+                // SAFETY: the walk's keys are cells of the grid, one entry each.
+                let d = u32::from(unsafe { *far.get_unchecked(key as usize) });
+                if d > SKIP_FROM {
+                    // The cube of cells within `d − 1` is empty: its exit is
+                    // the first crossing of its far faces (a face on the
+                    // grid's boundary is a `±∞` sentinel plane, crossed at
+                    // `+∞`).
+                    let r = d - 1;
+                    let mut t_x = INF;
+                    for a in 0..3 {
+                        if moving[a] {
+                            let face = if neg[a] {
+                                idx[a].saturating_sub(r)
+                            } else {
+                                idx[a].saturating_add(r + 1).min(dims[a])
+                            };
+                            // SAFETY: `face <= dims[a]`, and the walk planes
+                            // have `dims[a] + 1` entries.
+                            let p = unsafe { *base[a].add(face as usize) };
+                            t_x = t_x.min((p - org[a]) * inv[a]);
+                        }
+                    }
+                    if !(t_x <= t_end) {
+                        return ControlFlow::Continue(());
+                    }
+                    // Every crossing before `t_x` is inside the cube.
+                    while tx < t_x {
+                        step!(0, tx);
+                    }
+                    while ty < t_x {
+                        step!(1, ty);
+                    }
+                    while tz < t_x {
+                        step!(2, tz);
+                    }
+                }
+            }
+            let (a, tn) = if tx < ty {
+                if tx < tz {
+                    (0, tx)
+                } else {
+                    (2, tz)
+                }
+            } else if ty < tz {
+                (1, ty)
+            } else {
+                (2, tz)
+            };
+            let last_cell = !(tn <= t_end);
+            let t_exit = max(if last_cell { t_end } else { tn }, t_enter);
+            if occupied {
+                f.call(
+                    CellVisit {
+                        index: idx,
+                        t_enter,
+                        t_exit,
+                    },
+                    cells.refs(key),
+                )?;
+            }
+            if last_cell {
+                return ControlFlow::Continue(());
+            }
+            t_enter = t_exit;
+            match a {
+                0 => step!(0, tx),
+                1 => step!(1, ty),
+                _ => step!(2, tz),
             }
         }
     }

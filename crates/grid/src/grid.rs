@@ -4,6 +4,7 @@ use crate::build;
 use crate::cells::{dense_occupancy, Cells};
 use crate::counters::{Counters, NoCounters};
 use crate::dda::{BlockMap, CellFn, CellIter, CellLookup, CellVisit, Dda};
+use crate::empty_space;
 use crate::geom::{self, Geom};
 use crate::nested::{NestParams, Nested};
 use crate::{morton, Accelerator, CellStorage, GridConfig, GridStats, Hit, Primitive};
@@ -74,6 +75,10 @@ pub struct Grid<P: Primitive> {
     blocks: BlockMap,
     /// One bit per cell key: set when the cell holds references.
     occ: Box<[u64]>,
+    /// A sparse dense grid's distance from each cell to the nearest
+    /// occupied one ([`crate::empty_space`]), which the queries' walk
+    /// skips empty space by; empty when the grid has none.
+    far: Box<[u8]>,
     /// The nested grids of crowded cells.
     nested: Nested,
     stats: GridStats,
@@ -265,11 +270,13 @@ impl<P: Primitive> Grid<P> {
             spread: b.spread,
             blocks: BlockMap::default(),
             occ: Box::new([]),
+            far: Box::new([]),
             nested: Nested::default(),
             stats: GridStats::default(),
         };
         grid.blocks = grid.block_map();
         grid.occ = grid.occupancy_bits();
+        grid.far = grid.far_map(b.occupied, budget);
         let (min_refs, cost) = grid.nest_threshold(b.occupied, b.max_refs);
         let flat_bytes = grid.index_bytes();
         let crowded = grid.runs(min_refs as usize);
@@ -352,7 +359,8 @@ impl<P: Primitive> Grid<P> {
             .map(|s| std::mem::size_of_val(&**s))
             .sum::<usize>()
             + self.blocks.bytes()
-            + std::mem::size_of_val(&*self.occ);
+            + std::mem::size_of_val(&*self.occ)
+            + std::mem::size_of_val(&*self.far);
         table_bytes
             + std::mem::size_of_val(&*self.refs)
             + planes
@@ -526,6 +534,24 @@ impl<P: Primitive> Grid<P> {
         self.blocks.useful || matches!(self.cells, Cells::Hashed { .. })
     }
 
+    /// The distance map of a dense grid with `occupied` cells, when one
+    /// pays: when at least a tenth of the cells is empty, the grid has at
+    /// most [`empty_space::MAX_CELLS`] cells and the map (a byte a cell)
+    /// fits the memory `budget` beside the rest of the index.
+    fn far_map(&self, occupied: u64, budget: usize) -> Box<[u8]> {
+        let cells = self.geom.cell_count();
+        let sparse = occupied.saturating_mul(10) < cells.saturating_mul(9);
+        let fits = (cells as usize).saturating_add(self.index_bytes()) <= budget;
+        if !(matches!(self.cells, Cells::Dense { .. })
+            && sparse
+            && fits
+            && cells as usize <= empty_space::MAX_CELLS)
+        {
+            return Box::new([]);
+        }
+        empty_space::far_map(self.geom.dims, |c| bit(&self.occ, c as u64))
+    }
+
     /// One bit per cell key (row-major index or Morton code).
     fn occupancy_bits(&self) -> Box<[u64]> {
         match &self.cells {
@@ -660,8 +686,11 @@ impl<P: Primitive> Grid<P> {
             q.stamp = scratch.begin(self.prims.len());
             q.stamps = &mut scratch.stamps;
         }
-        // Sparse grids skip empty blocks and cells; dense ones walk every cell.
-        let _ = if self.skips() {
+        // Sparse grids skip empty space; dense ones walk every cell.
+        let _ = if let (Cells::Dense { offsets }, false) = (&self.cells, self.far.is_empty()) {
+            let l = DenseLookup::new(self.geom.dims, &self.occ, offsets, &self.refs);
+            dda.walk_far(&l, self.geom.dims, &self.far, &mut q)
+        } else if self.skips() {
             with_lookup!(self, l => dda.walk_skip(&l, &self.blocks, &mut q), ControlFlow::Continue(()))
         } else {
             with_lookup!(self, l => dda.walk(&l, &mut q), ControlFlow::Continue(()))
@@ -746,7 +775,11 @@ impl<P: Primitive> Grid<P> {
             q.stamp = scratch.begin(self.prims.len());
             q.stamps = &mut scratch.stamps;
         }
-        if self.skips() {
+        if let (Cells::Dense { offsets }, false) = (&self.cells, self.far.is_empty()) {
+            let l = DenseLookup::new(self.geom.dims, &self.occ, offsets, &self.refs);
+            dda.walk_far(&l, self.geom.dims, &self.far, &mut q)
+                .is_break()
+        } else if self.skips() {
             with_lookup!(self, l => dda.walk_skip(&l, &self.blocks, &mut q), ControlFlow::Continue(())).is_break()
         } else {
             with_lookup!(self, l => dda.walk(&l, &mut q), ControlFlow::Continue(())).is_break()

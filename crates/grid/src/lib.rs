@@ -76,8 +76,9 @@
 //!   primitive)` pairs (Kalojanov & Slusallek 2009); parallel with `rayon`.
 //! - **Traversal**: the 3D-DDA of Amanatides & Woo (1987), entered through
 //!   the robust slab test, with plane crossings computed from the stored cell
-//!   planes. Queries cross empty 8³ blocks of cells in one step and skip
-//!   empty cells by an occupancy bit. [`Grid::cells_along`] (an iterator)
+//!   planes. Queries leave a cube of empty cells in one step by a
+//!   chessboard distance map (sparse dense tables), or cross empty 8³
+//!   blocks in one step, and skip empty cells by an occupancy bit. [`Grid::cells_along`] (an iterator)
 //!   and [`Grid::visit_cells`] (a `ControlFlow` visitor) expose the walk.
 //! - **Exactness**: primitive boxes are widened by a few hundred ulps of the
 //!   scene's coordinates before insertion, so a primitive whose hit lies on
@@ -108,6 +109,7 @@ pub mod cost;
 mod counters;
 mod dda;
 mod dense_build;
+mod empty_space;
 mod exhaustive;
 mod geom;
 mod grid;

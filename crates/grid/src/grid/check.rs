@@ -137,6 +137,14 @@ impl<P: Primitive> Grid<P> {
                 return Err("occupancy bits disagree with the occupied cells".into());
             }
         }
+        // The distance map is the occupancy's, cell by cell.
+        if !self.far.is_empty() {
+            let want =
+                crate::empty_space::far_map(g.dims, |c| self.occ[c >> 6] >> (c & 63) & 1 != 0);
+            if self.far != want {
+                return Err("distance map disagrees with the occupied cells".into());
+            }
+        }
         self.check_nested()?;
         // Expected (cell, primitive) pairs against the stored ones.
         let mut stored: Vec<([u32; 3], u32)> = Vec::with_capacity(self.refs.len());

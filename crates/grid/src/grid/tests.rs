@@ -124,3 +124,70 @@ fn dense_scenes_walk_every_cell() {
     let g = Grid::build(prims, &GridConfig::default());
     assert!(!g.blocks.useful);
 }
+
+#[test]
+fn the_distance_map_skips_only_empty_cells() {
+    // Small clusters in a large box, walked along every kind of direction:
+    // the walk that skips by the distance map must visit exactly the
+    // occupied cells the cell-by-cell walk meets, in order, and answer as
+    // the exhaustive baseline does.
+    let mut seed = 7;
+    let mut prims = Vec::new();
+    for c in 0..5 {
+        let centre = Vec3::new(
+            (c * 13 % 40) as Real - 20.0,
+            (c * 7 % 30) as Real - 15.0,
+            (c * 11 % 50) as Real - 25.0,
+        );
+        for _ in 0..40 {
+            let p = centre + Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 2.0;
+            prims.push(Ball(p, 0.05 + 0.1 * lcg(&mut seed)));
+        }
+    }
+    let e = Exhaustive::new(prims.clone());
+    let dirs = [Vec3::X, -Vec3::Y, Vec3::Z, Vec3::new(1.0, -1.0, 0.0)];
+    for mailbox in [false, true] {
+        let g = Grid::build(
+            prims.clone(),
+            &GridConfig {
+                mailbox,
+                m: 2.0,
+                ..GridConfig::default()
+            },
+        );
+        assert!(!g.far.is_empty(), "a sparse dense grid gets a distance map");
+        assert!(g.far.iter().any(|&d| d > 3), "with room to skip");
+        g.check_invariants().expect("invariants");
+        let mut sc = g.scratch();
+        for i in 0..4000 {
+            let o = Vec3::new(
+                lcg(&mut seed) * 60.0 - 30.0,
+                lcg(&mut seed) * 50.0 - 25.0,
+                lcg(&mut seed) * 70.0 - 35.0,
+            );
+            let d = if i % 5 == 0 {
+                dirs[i % dirs.len()]
+            } else {
+                let target = prims[i % prims.len()].0;
+                target - o + Vec3::new(lcg(&mut seed), lcg(&mut seed), 0.0)
+            };
+            let r = Ray::new(o, d);
+            let t_max = if i % 3 == 0 { 2.0 } else { Real::INFINITY };
+            let want = e.closest_hit(&r, 0.0, t_max, &mut ());
+            let mut c = crate::QueryCounters::default();
+            let got = g.closest_hit_counted(&r, 0.0, t_max, &mut sc, &mut c);
+            assert_eq!(got, want, "ray {i}");
+            assert_eq!(g.any_hit(&r, 0.0, t_max, &mut sc), want.is_some());
+            if want.is_none() {
+                // With nothing hit the query walks the whole range: it
+                // visits every occupied cell the plain walk meets.
+                let mut occupied = 0;
+                let _ = g.visit_cells(&r, 0.0, t_max, |_, refs| {
+                    occupied += u64::from(!refs.is_empty());
+                    ControlFlow::<()>::Continue(())
+                });
+                assert_eq!(c.cells, occupied, "ray {i}");
+            }
+        }
+    }
+}
