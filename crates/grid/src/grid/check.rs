@@ -139,8 +139,7 @@ impl<P: Primitive> Grid<P> {
         }
         // The distance map is the occupancy's, cell by cell.
         if !self.far.is_empty() {
-            let want =
-                crate::empty_space::far_map(g.dims, |c| self.occ[c >> 6] >> (c & 63) & 1 != 0);
+            let want = crate::empty_space::far_map(g.dims, |c| super::bit(&self.occ, c as u64));
             if self.far != want {
                 return Err("distance map disagrees with the occupied cells".into());
             }
