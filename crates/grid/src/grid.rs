@@ -686,15 +686,7 @@ impl<P: Primitive> Grid<P> {
             q.stamp = scratch.begin(self.prims.len());
             q.stamps = &mut scratch.stamps;
         }
-        // Sparse grids skip empty space; dense ones walk every cell.
-        let _ = if let (Cells::Dense { offsets }, false) = (&self.cells, self.far.is_empty()) {
-            let l = DenseLookup::new(self.geom.dims, &self.occ, offsets, &self.refs);
-            dda.walk_far(&l, self.geom.dims, &self.far, &mut q)
-        } else if self.skips() {
-            with_lookup!(self, l => dda.walk_skip(&l, &self.blocks, &mut q), ControlFlow::Continue(()))
-        } else {
-            with_lookup!(self, l => dda.walk(&l, &mut q), ControlFlow::Continue(()))
-        };
+        let _ = self.walk_occupied(dda, &mut q);
         q.best
     }
 
@@ -775,14 +767,25 @@ impl<P: Primitive> Grid<P> {
             q.stamp = scratch.begin(self.prims.len());
             q.stamps = &mut scratch.stamps;
         }
+        self.walk_occupied(dda, &mut q).is_break()
+    }
+
+    /// Walks a query's cells with the walk that suits the grid: sparse
+    /// grids skip empty space (by the distance map when they have one, else
+    /// by empty blocks), dense ones walk every cell.
+    #[inline(always)]
+    fn walk_occupied<'a, F: CellFn<'a>>(
+        &'a self,
+        dda: Dda<'_>,
+        q: &mut F,
+    ) -> ControlFlow<F::Break> {
         if let (Cells::Dense { offsets }, false) = (&self.cells, self.far.is_empty()) {
             let l = DenseLookup::new(self.geom.dims, &self.occ, offsets, &self.refs);
-            dda.walk_far(&l, self.geom.dims, &self.far, &mut q)
-                .is_break()
+            dda.walk_far(&l, self.geom.dims, &self.far, q)
         } else if self.skips() {
-            with_lookup!(self, l => dda.walk_skip(&l, &self.blocks, &mut q), ControlFlow::Continue(())).is_break()
+            with_lookup!(self, l => dda.walk_skip(&l, &self.blocks, q), ControlFlow::Continue(()))
         } else {
-            with_lookup!(self, l => dda.walk(&l, &mut q), ControlFlow::Continue(())).is_break()
+            with_lookup!(self, l => dda.walk(&l, q), ControlFlow::Continue(()))
         }
     }
 }
