@@ -70,6 +70,26 @@ impl MeshShading {
         }
     }
 
+    /// Frees the positions and triangles of the meshes `placed` (as for
+    /// [`MeshShading::renumber`]) that nothing but this shading holds any
+    /// more: shading reads neither once renumbered, and indexed triangles
+    /// have their own copy.
+    pub(crate) fn release_positions(meshes: &mut [MeshShading], placed: &[(u32, u32)]) {
+        for &(k, _) in placed {
+            let Some(MeshShading {
+                vertices: Vertices::Mesh(mesh),
+                ..
+            }) = meshes.get_mut(k as usize)
+            else {
+                continue;
+            };
+            if let Some(mesh) = Arc::get_mut(mesh) {
+                mesh.positions = Vec::new();
+                mesh.triangles = Vec::new();
+            }
+        }
+    }
+
     /// Moves the per-vertex arrays of the meshes `placed` (index in
     /// `meshes`, and the number of the mesh's first vertex before
     /// renumbering) into one [`VertexTable`]: old vertex `i` becomes row
@@ -316,5 +336,29 @@ mod tests {
         assert_eq!(p.runs.len(), 5);
         assert!(p.bytes() < 8 * want.len());
         assert_eq!(PrimMeshes::default().get(0), None);
+    }
+
+    #[test]
+    fn only_meshes_held_by_shading_alone_give_up_their_positions() {
+        let mesh = || {
+            Arc::new(Mesh {
+                positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+                normals: vec![Vec3::Z; 3],
+                triangles: vec![[0, 1, 2]],
+                ..Mesh::default()
+            })
+        };
+        let kept = mesh();
+        let mut meshes = vec![
+            MeshShading::new(mesh(), false),
+            MeshShading::new(Arc::clone(&kept), false),
+        ];
+        MeshShading::release_positions(&mut meshes, &[(0, 0), (1, 3)]);
+        let arrays = |m: &MeshShading| match &m.vertices {
+            Vertices::Mesh(m) => (m.positions.len(), m.triangles.len(), m.normals.len()),
+            Vertices::Table { .. } => unreachable!(),
+        };
+        assert_eq!(arrays(&meshes[0]), (0, 0, 3));
+        assert_eq!(arrays(&meshes[1]), (3, 1, 3));
     }
 }

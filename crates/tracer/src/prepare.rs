@@ -36,6 +36,30 @@ pub(crate) struct Prepared {
     pub height: u32,
     pub spp: u32,
     pub instancing: InstancingStats,
+    /// Indexed triangles whose vertices still await their spatial
+    /// numbering: each mesh with shading data and its first vertex.
+    unnumbered: Option<Vec<(u32, u32)>>,
+}
+
+impl Prepared {
+    /// Numbers the vertices of indexed triangles in the triangles' spatial
+    /// order ([`MeshVertices::renumber`]) and moves shading's per-vertex
+    /// arrays into that numbering. The renderer calls it once the scene's
+    /// objects may be gone: a mesh that only shading still holds first
+    /// drops its positions and triangles, which the grid's primitives have
+    /// copied, so they are not alive beside the order's keys.
+    pub(crate) fn numbered(mut self) -> Self {
+        let (Some(placed), Prims::Mesh(verts, tris)) = (self.unnumbered.take(), &mut self.prims)
+        else {
+            return self;
+        };
+        MeshShading::release_positions(&mut self.data.meshes, &placed);
+        let order = gridrt_grid::spatial_order_iter(tris, verts);
+        let (numbered, new_of) = std::mem::take(verts).renumber(tris, order);
+        *verts = numbered;
+        MeshShading::renumber(&mut self.data.meshes, &placed, &new_of);
+        self
+    }
 }
 
 /// Validates the scene and converts it. Triangles of zero area are left
@@ -58,7 +82,7 @@ pub(crate) fn prepare(
     let mut plan = EffectPlan::for_scene(scene);
     let mut data = shading_data(scene, &plan);
     data.tex = texture_data(scene, camera.footprint());
-    let (prims, instancing) = convert(
+    let (prims, instancing, unnumbered) = convert(
         scene,
         Counts {
             count,
@@ -112,6 +136,7 @@ pub(crate) fn prepare(
         height: s.height,
         spp: s.spp,
         instancing,
+        unnumbered,
     })
 }
 
@@ -344,7 +369,7 @@ fn convert(
     instancing: &Instancing,
     sample_lights: bool,
     data: &mut SceneData,
-) -> (Prims, InstancingStats) {
+) -> (Prims, InstancingStats, Option<Vec<(u32, u32)>>) {
     // One material for every primitive: no per-primitive table.
     let materials = || {
         scene
@@ -400,7 +425,11 @@ fn convert(
             if !set.colors.is_empty() {
                 data.prim_albedo = PrimColors::Set(Arc::clone(set));
             }
-            return (Prims::Set(Arc::clone(set)), InstancingStats::default());
+            return (
+                Prims::Set(Arc::clone(set)),
+                InstancingStats::default(),
+                None,
+            );
         }
     }
     let mut per_prim = Vec::new();
@@ -431,6 +460,7 @@ fn convert(
             }
         };
     let mut stats = InstancingStats::default();
+    let mut unnumbered = None;
     let prims = if all_spheres {
         let mut spheres: Vec<Sphere> = Vec::with_capacity(count);
         for o in &scene.objects {
@@ -582,18 +612,17 @@ fn convert(
         stats.shared_meshes = grids.len();
         stats.bytes = grids.values().map(|g| g.bytes()).sum::<usize>()
             + stats.instances * std::mem::size_of::<Instance>();
-        let (prims, renumbered) = shapes.finish();
-        if let Some(new_of) = renumbered {
-            MeshShading::renumber(&mut data.meshes, &placed, &new_of);
+        if matches!(shapes, Out::Mesh(..)) {
+            unnumbered = Some(placed);
         }
-        prims
+        shapes.finish()
     };
     data.prim_material = match uniform {
         Some(m) => PrimMaterials::Uniform(m),
         None => PrimMaterials::PerPrim(per_prim),
     };
     data.prim_albedo = PrimColors::Own(albedos);
-    (prims, stats)
+    (prims, stats, unnumbered)
 }
 
 #[cfg(test)]

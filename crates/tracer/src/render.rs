@@ -180,7 +180,8 @@ impl Renderer {
             height,
             spp,
             instancing,
-        } = prepared;
+            ..
+        } = prepared.numbered();
         data.ray_offset = options.ray_offset;
         let prims = with_triangle_test(prims, options.triangle_test);
         let prim_count = prims.len() + data.planes.len();

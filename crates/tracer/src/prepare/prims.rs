@@ -105,19 +105,14 @@ impl Out {
         }
     }
 
-    /// The primitives; indexed triangles get their vertices renumbered in
-    /// the triangles' spatial order ([`MeshVertices::renumber`]), and then
-    /// the renumbering comes too: each old vertex's new number
-    /// (`u32::MAX`: unused).
-    pub(super) fn finish(self) -> (Prims, Option<Vec<u32>>) {
+    /// The primitives (indexed triangles keep the numbering of their
+    /// vertices as they came: [`super::Prepared::numbered`] orders
+    /// them).
+    pub(super) fn finish(self) -> Prims {
         match self {
-            Out::Triangles(v) => (Prims::Triangles(v), None),
-            Out::Mesh(verts, mut v) => {
-                let order = gridrt_grid::spatial_order_iter(&v, &verts);
-                let (verts, new_of) = verts.renumber(&mut v, order);
-                (Prims::Mesh(verts, v), Some(new_of))
-            }
-            Out::Shapes(v) => (Prims::Shapes(v), None),
+            Out::Triangles(v) => Prims::Triangles(v),
+            Out::Mesh(verts, v) => Prims::Mesh(verts, v),
+            Out::Shapes(v) => Prims::Shapes(v),
         }
     }
 }
