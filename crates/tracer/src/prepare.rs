@@ -36,9 +36,10 @@ pub(crate) struct Prepared {
     pub height: u32,
     pub spp: u32,
     pub instancing: InstancingStats,
-    /// Indexed triangles whose vertices still await their spatial
-    /// numbering: each mesh with shading data and its first vertex.
-    unnumbered: Option<Vec<(u32, u32)>>,
+    /// Each mesh with shading data and its first vertex: what
+    /// [`Prepared::numbered`] renumbers when the triangles are indexed
+    /// (`Prims::Mesh`, whose vertices await their spatial numbering).
+    placed: Vec<(u32, u32)>,
 }
 
 impl Prepared {
@@ -49,15 +50,14 @@ impl Prepared {
     /// drops its positions and triangles, which the grid's primitives have
     /// copied, so they are not alive beside the order's keys.
     pub(crate) fn numbered(mut self) -> Self {
-        let (Some(placed), Prims::Mesh(verts, tris)) = (self.unnumbered.take(), &mut self.prims)
-        else {
+        let Prims::Mesh(verts, tris) = &mut self.prims else {
             return self;
         };
-        MeshShading::release_positions(&mut self.data.meshes, &placed);
+        MeshShading::release_positions(&mut self.data.meshes, &self.placed);
         let order = gridrt_grid::spatial_order_iter(tris, verts);
         let (numbered, new_of) = std::mem::take(verts).renumber(tris, order);
         *verts = numbered;
-        MeshShading::renumber(&mut self.data.meshes, &placed, &new_of);
+        MeshShading::renumber(&mut self.data.meshes, &self.placed, &new_of);
         self
     }
 }
@@ -82,7 +82,7 @@ pub(crate) fn prepare(
     let mut plan = EffectPlan::for_scene(scene);
     let mut data = shading_data(scene, &plan);
     data.tex = texture_data(scene, camera.footprint());
-    let (prims, instancing, unnumbered) = convert(
+    let (prims, instancing, placed) = convert(
         scene,
         Counts {
             count,
@@ -136,7 +136,7 @@ pub(crate) fn prepare(
         height: s.height,
         spp: s.spp,
         instancing,
-        unnumbered,
+        placed,
     })
 }
 
@@ -369,7 +369,7 @@ fn convert(
     instancing: &Instancing,
     sample_lights: bool,
     data: &mut SceneData,
-) -> (Prims, InstancingStats, Option<Vec<(u32, u32)>>) {
+) -> (Prims, InstancingStats, Vec<(u32, u32)>) {
     // One material for every primitive: no per-primitive table.
     let materials = || {
         scene
@@ -428,7 +428,7 @@ fn convert(
             return (
                 Prims::Set(Arc::clone(set)),
                 InstancingStats::default(),
-                None,
+                Vec::new(),
             );
         }
     }
@@ -460,7 +460,8 @@ fn convert(
             }
         };
     let mut stats = InstancingStats::default();
-    let mut unnumbered = None;
+    // Indexed triangles: (shading data, first vertex) of each mesh.
+    let mut placed = Vec::new();
     let prims = if all_spheres {
         let mut spheres: Vec<Sphere> = Vec::with_capacity(count);
         for o in &scene.objects {
@@ -516,8 +517,6 @@ fn convert(
             Out::Shapes(Vec::with_capacity(count))
         };
         let mut grids: HashMap<*const Mesh, Arc<MeshGrid>> = HashMap::new();
-        // Indexed triangles: (shading data, first vertex) of each mesh.
-        let mut placed = Vec::new();
         for o in &scene.objects {
             let first = shapes.len();
             let flat = match &o.geometry {
@@ -612,9 +611,6 @@ fn convert(
         stats.shared_meshes = grids.len();
         stats.bytes = grids.values().map(|g| g.bytes()).sum::<usize>()
             + stats.instances * std::mem::size_of::<Instance>();
-        if matches!(shapes, Out::Mesh(..)) {
-            unnumbered = Some(placed);
-        }
         shapes.finish()
     };
     data.prim_material = match uniform {
@@ -622,7 +618,7 @@ fn convert(
         None => PrimMaterials::PerPrim(per_prim),
     };
     data.prim_albedo = PrimColors::Own(albedos);
-    (prims, stats, unnumbered)
+    (prims, stats, placed)
 }
 
 #[cfg(test)]
