@@ -15,7 +15,10 @@
 //! parent cell's (a subdivision that did not separate them, as around the
 //! common vertex of a fan or in a stack of coincident triangles, is not
 //! repeated), (3) the depth is below [`MAX_DEPTH`], and (4) the memory
-//! budget still has room for it. A grid is not built at all when its cells
+//! budget has taken every grid planned before it: the first nested grid
+//! the budget cannot take ends the build (planning the rest, as a scene
+//! of many detailed objects would ask, would cost more build time than
+//! the grids built). A grid is not built at all when its cells
 //! would hold on average more than [`SEPARATION`] of the references (nothing
 //! separates them: walking it would cost more than testing them), or when
 //! more than [`MAX_HEAVY`] of its cells would each hold more than
@@ -27,8 +30,8 @@
 //!
 //! **Build**, breadth first and deterministic: each level's candidates are
 //! planned in parallel (box, resolution, reference count per nested cell),
-//! granted in order against the budget (whatever the thread count, the same
-//! grids are built), then filled in parallel. All nested grids live in one
+//! granted in order against the budget until one does not fit (whatever
+//! the thread count, the same grids are built), then filled in parallel. All nested grids live in one
 //! arena; the children of one grid are contiguous in it and found from the
 //! start of the parent cell's run of references by one popcount.
 //!
@@ -269,6 +272,8 @@ impl Nested {
         cands.sort_unstable_by_key(|c| c.start);
         let mut subs: Vec<Sub> = Vec::new();
         let mut root_children = Children::default();
+        // The first nested grid the budget cannot take ends the build.
+        let mut full = false;
         while !cands.is_empty() {
             let refs_of = |c: &Candidate| -> (&Geom, &[u32]) {
                 let (g, all) = match c.parent {
@@ -302,10 +307,12 @@ impl Nested {
                 for (i, plan) in (b0..).zip(plans) {
                     let Some(plan) = plan else { continue };
                     let bytes = plan.bytes();
-                    if used + bytes <= p.budget {
-                        used += bytes;
-                        ok.push((i, plan));
+                    if used + bytes > p.budget {
+                        full = true;
+                        break;
                     }
+                    used += bytes;
+                    ok.push((i, plan));
                 }
                 filled.extend(map_indices(ok.len(), p.parallel, |k| {
                     let (i, plan) = &ok[k];
@@ -313,6 +320,9 @@ impl Nested {
                     fill(plan, c.start, c.depth)
                 }));
                 granted.extend(ok.iter().map(|(i, _)| *i));
+                if full {
+                    break;
+                }
                 b0 = b1;
             }
             // Each parent's children, contiguous from `base`.
@@ -340,7 +350,7 @@ impl Nested {
             // The next level: the crowded cells of the new grids that the
             // stopping rule lets through.
             let mut next = Vec::new();
-            for (k, sub) in filled.iter().enumerate() {
+            for (k, sub) in filled.iter().enumerate().take_while(|_| !full) {
                 let parent_len = cands[granted[k]].len as f64;
                 if sub.depth >= MAX_DEPTH {
                     continue;
@@ -422,12 +432,11 @@ impl Nested {
                 return Err(format!("cell {idx:?}: nested grid {i} of another cell"));
             }
             let sg = &sub.geom;
-            let (direct, inner) = split(prims, shared, g, idx, refs);
+            let (direct, inner, boxes) = split(prims, shared, g, idx, refs);
             if direct[..] != sub.direct[..] {
                 return Err(format!("cell {idx:?}: wrong references tested directly"));
             }
-            let boxes = inner.iter().map(|&p| prims[p as usize].bounds(shared));
-            if sg.bounds != cover(g, idx, boxes) || sg.pad < pad {
+            if sg.bounds != cover(g, idx, boxes.iter().copied()) || sg.pad < pad {
                 return Err(format!("cell {idx:?}: nested grid not over the cell"));
             }
             let count = sg.cell_count() as usize;
@@ -475,27 +484,41 @@ impl Nested {
 /// detailed object's cell would otherwise stretch the nested grid over the
 /// whole cell, and the object would fall into a few nested cells again.
 /// Only when the direct ones are at most an eighth of the references:
-/// otherwise none.
+/// otherwise none. The third list holds the boxes of the second.
 fn split<P: Primitive>(
     prims: &[P],
     shared: &P::Shared,
     g: &Geom,
     idx: [u32; 3],
     refs: &[u32],
-) -> (Vec<u32>, Vec<u32>) {
+) -> (Vec<u32>, Vec<u32>, Vec<Aabb>) {
     let cell = g.padded_cell_box(idx);
     let half = cell.extent() * 0.5;
-    let spans = |r: u32| {
-        let b = prims[r as usize].bounds(shared);
+    let spans = |b: &Aabb| {
         let e = b.max.min(cell.max) - b.min.max(cell.min);
         e.x >= half.x || e.y >= half.y || e.z >= half.z
     };
-    let (direct, inner): (Vec<u32>, Vec<u32>) = refs.iter().partition(|&&r| spans(r));
-    if direct.len() * 8 > refs.len() {
-        (Vec::new(), refs.to_vec())
-    } else {
-        (direct, inner)
+    // Each box computed once: for the split and for the plan.
+    let boxes: Vec<Aabb> = refs
+        .iter()
+        .map(|&r| prims[r as usize].bounds(shared))
+        .collect();
+    let spanning = boxes.iter().filter(|b| spans(b)).count();
+    if spanning == 0 || spanning * 8 > refs.len() {
+        return (Vec::new(), refs.to_vec(), boxes);
     }
+    let mut direct = Vec::with_capacity(spanning);
+    let mut inner = Vec::with_capacity(refs.len() - spanning);
+    let mut inner_boxes = Vec::with_capacity(refs.len() - spanning);
+    for (&r, b) in refs.iter().zip(boxes) {
+        if spans(&b) {
+            direct.push(r);
+        } else {
+            inner.push(r);
+            inner_boxes.push(b);
+        }
+    }
+    (direct, inner, inner_boxes)
 }
 
 /// Plans the nested grid of cell `idx` of grid `g`, whose references are
@@ -508,11 +531,7 @@ fn plan<P: Primitive>(
     refs: &[u32],
     p: &NestParams,
 ) -> Option<Plan> {
-    let (direct, inner) = split(prims, shared, g, idx, refs);
-    let boxes: Vec<Aabb> = inner
-        .iter()
-        .map(|&r| prims[r as usize].bounds(shared))
-        .collect();
+    let (direct, inner, boxes) = split(prims, shared, g, idx, refs);
     let cell = cover(g, idx, boxes.iter().copied());
     let e = cell.extent();
     let ext = [geom::wide(e.x), geom::wide(e.y), geom::wide(e.z)];

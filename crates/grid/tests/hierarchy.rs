@@ -383,3 +383,54 @@ fn a_surface_crowding_many_cells_nests_the_same_in_batches() {
         );
     }
 }
+
+/// The first nested grid the budget cannot take ends the build, so the
+/// grids built under a budget are the first ones of the unlimited build:
+/// within the budget, a larger budget never nests fewer cells, and none
+/// goes deeper than the unlimited build.
+#[test]
+fn a_larger_budget_never_nests_fewer_cells() {
+    let n = 100;
+    let at = |i: u32, j: u32| {
+        let (x, z) = (i as Real / n as Real, j as Real / n as Real);
+        Vec3::new(x, 0.05 * (9.0 * x).sin() * (7.0 * z).cos(), z)
+    };
+    let mut scene = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            scene.push(Triangle::new(at(i, j), at(i + 1, j), at(i + 1, j + 1)));
+            scene.push(Triangle::new(at(i, j), at(i + 1, j + 1), at(i, j + 1)));
+        }
+    }
+    let p = Vec3::splat(20.0);
+    scene.push(Triangle::new(p, p + Vec3::X, p + Vec3::Y));
+    let config = |memory_budget| GridConfig {
+        nest_min_refs: 16,
+        memory_budget,
+        ..GridConfig::default()
+    };
+    let all = Grid::build(scene.clone(), &config(None)).stats().clone();
+    let flat = Grid::build(
+        scene.clone(),
+        &GridConfig {
+            auto: false,
+            ..GridConfig::default()
+        },
+    )
+    .stats()
+    .bytes;
+    assert!(all.nested_cells > 20 && all.nest_levels >= 2, "{all:?}");
+    let mut last = 0;
+    for k in 1..=6 {
+        let budget = flat + (all.bytes - flat) * k / 7;
+        let g = Grid::build(scene.clone(), &config(Some(budget)));
+        g.check_invariants().expect("a valid grid");
+        let s = g.stats();
+        assert!(s.bytes <= budget, "{budget}: {s:?}");
+        assert!(s.nested_cells >= last, "{budget}: {s:?}");
+        assert!(s.nested_cells < all.nested_cells, "{budget}: {s:?}");
+        assert!(s.nest_levels <= all.nest_levels, "{budget}: {s:?}");
+        last = s.nested_cells;
+    }
+    assert!(last > 0);
+}
