@@ -31,9 +31,10 @@
 //! **Build**, breadth first and deterministic: each level's candidates are
 //! planned in parallel (box, resolution, reference count per nested cell),
 //! granted in order against the budget until one does not fit (whatever
-//! the thread count, the same grids are built), then filled in parallel. All nested grids live in one
-//! arena; the children of one grid are contiguous in it and found from the
-//! start of the parent cell's run of references by one popcount.
+//! the thread count, the same grids are built), then filled in parallel.
+//! All nested grids live in one arena; the children of one grid are
+//! contiguous in it and found from the start of the parent cell's run of
+//! references by one popcount.
 //!
 //! **Correctness** is the outer grid's argument one level down. A nested
 //! grid spans every point of its cell that lies in one of its references'
@@ -348,13 +349,13 @@ impl Nested {
                 k = e;
             }
             // The next level: the crowded cells of the new grids that the
-            // stopping rule lets through.
+            // stopping rule lets through (none once the budget is full).
             let mut next = Vec::new();
-            for (k, sub) in filled.iter().enumerate().take_while(|_| !full) {
-                let parent_len = cands[granted[k]].len as f64;
-                if sub.depth >= MAX_DEPTH {
+            for (k, sub) in filled.iter().enumerate() {
+                if full || sub.depth >= MAX_DEPTH {
                     continue;
                 }
+                let parent_len = cands[granted[k]].len as f64;
                 for (c, w) in sub.offsets.windows(2).enumerate() {
                     let len = (w[1] - w[0]) as usize;
                     if len >= p.min_refs && len as f64 <= PROGRESS * parent_len {
