@@ -122,8 +122,8 @@ pub use scene::{
     Mesh, Object, Occlusion, Projection, Rgb, Scene, Settings, SphereSet, ThinLens,
 };
 pub use shapes::{
-    Cuboid, MeshTriangle, MeshVertices, MtTriangle, Plane, Shape, Shear, Sphere, Triangle,
-    MT_EPSILON,
+    Cuboid, MeshTriangle, MeshVertices, MtTriangle, Plane, Shape, Shear, Sphere, SphereRay,
+    Triangle, MT_EPSILON,
 };
 pub use texture::{MaterialMaps, Texture, TextureRef, Textures};
 pub use transform::Affine;

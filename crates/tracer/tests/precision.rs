@@ -22,7 +22,7 @@ fn unit_sphere_seen_from_far_away() {
             (1.5, false),
         ] {
             let ray = Ray::new(o, Vec3::new(h, 0.0, 0.0) - o);
-            let got = s.closest_hit(&(), &ray, &(), 0.0, Real::INFINITY);
+            let got = s.closest_hit(&(), &ray, &Sphere::ray_data(&ray), 0.0, Real::INFINITY);
             assert_eq!(got.is_some(), hit, "distance {dist}, offset {h}");
             if let Some(g) = got {
                 // The exact t in f64.
@@ -46,8 +46,9 @@ fn huge_sphere_is_hit_where_it_should_be() {
         let s = Sphere::new(Vec3::new(0.0, -big, 0.0), big);
         let o = Vec3::new(0.3, 2.0, -0.7);
         let d = Vec3::new(0.3, -1.0, 0.2);
+        let ray = Ray::new(o, d);
         let h = s
-            .closest_hit(&(), &Ray::new(o, d), &(), 0.0, Real::INFINITY)
+            .closest_hit(&(), &ray, &Sphere::ray_data(&ray), 0.0, Real::INFINITY)
             .expect("hits the ground");
         // The top of the sphere is flat to first order: y ≈ 0 at t ≈ 2.
         let p = o + d * h.t;
@@ -55,7 +56,9 @@ fn huge_sphere_is_hit_where_it_should_be() {
         assert!((h.t - 2.0).abs() < 1e-2, "big {big}: t {}", h.t);
         // A ray skimming above the top misses.
         let skim = Ray::new(Vec3::new(-5.0, 0.01, 0.0), Vec3::X);
-        assert!(s.closest_hit(&(), &skim, &(), 0.0, 10.0).is_none());
+        assert!(s
+            .closest_hit(&(), &skim, &Sphere::ray_data(&skim), 0.0, 10.0)
+            .is_none());
     }
 }
 

@@ -23,7 +23,7 @@ pub use instance::{Instance, MeshGrid};
 pub use mesh_triangle::{MeshTriangle, MeshVertices};
 pub use plane::Plane;
 pub use shear::{LazyShear, Shear};
-pub use sphere::Sphere;
+pub use sphere::{Sphere, SphereRay};
 pub use triangle::Triangle;
 pub use triangle_mt::{MtTriangle, MT_EPSILON};
 
@@ -121,7 +121,7 @@ impl Primitive for Shape {
         t_max: Real,
     ) -> Option<PrimHit> {
         match self {
-            Shape::Sphere(s) => s.closest_hit(&(), ray, &(), t_min, t_max),
+            Shape::Sphere(s) => s.closest_hit(&(), ray, &Sphere::ray_data(ray), t_min, t_max),
             Shape::Cuboid(c) => c.closest_hit(&(), ray, &(), t_min, t_max),
             Shape::Triangle(t) => t.closest_hit(&(), ray, shear.of(ray), t_min, t_max),
             Shape::MtTriangle(t) => t.closest_hit(&(), ray, &(), t_min, t_max),
@@ -132,7 +132,7 @@ impl Primitive for Shape {
     #[inline]
     fn any_hit(&self, _: &(), ray: &Ray, shear: &LazyShear, t_min: Real, t_max: Real) -> bool {
         match self {
-            Shape::Sphere(s) => s.any_hit(&(), ray, &(), t_min, t_max),
+            Shape::Sphere(s) => s.any_hit(&(), ray, &Sphere::ray_data(ray), t_min, t_max),
             Shape::Cuboid(c) => c.any_hit(&(), ray, &(), t_min, t_max),
             Shape::Triangle(t) => t.any_hit(&(), ray, shear.of(ray), t_min, t_max),
             Shape::MtTriangle(t) => t.any_hit(&(), ray, &(), t_min, t_max),

@@ -1,7 +1,7 @@
 use super::{unit_or, Surface, SurfacePoint};
 use gridrt_bbox::math::{LaneMat, Lanes, Vec3Lanes};
 use gridrt_bbox::{gamma, Aabb, Ray, Real, Vec3};
-use gridrt_grid::{closest_hits_prefiltered, PrimHit, Primitive};
+use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primitive};
 
 /// A sphere: 16 bytes with `f32` (centre and radius), so a grid of a million
 /// of them stays small.
@@ -17,7 +17,8 @@ use gridrt_grid::{closest_hits_prefiltered, PrimHit, Primitive};
 /// use gridrt_tracer::Sphere;
 /// use gridrt_grid::{Primitive, Ray, Real, Vec3};
 /// let s = Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0);
-/// let h = s.closest_hit(&(), &Ray::new(Vec3::ZERO, -Vec3::Z), &(), 0.0, Real::INFINITY).unwrap();
+/// let ray = Ray::new(Vec3::ZERO, -Vec3::Z);
+/// let h = s.closest_hit(&(), &ray, &Sphere::ray_data(&ray), 0.0, Real::INFINITY).unwrap();
 /// assert_eq!(h.t, 4.0);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -97,15 +98,59 @@ impl Sphere {
     }
 }
 
+/// What the four-at-a-time test of [`Sphere`]s needs of a ray, computed
+/// once per query rather than once per cell: the origin and direction
+/// spread over the lanes, and `d · d`.
+#[derive(Clone, Copy, Debug)]
+pub struct SphereRay {
+    origin: [Lanes; 3],
+    dir: [Lanes; 3],
+    dd: Lanes,
+}
+
+impl SphereRay {
+    /// The lanes (bit `k` for `four[k]`) whose sphere the ray may hit: the
+    /// rejection of [`Sphere::roots`] (the squared distance from the centre
+    /// to the ray's line against `r²`) in SIMD lanes, with the same
+    /// operations in the same order, so lane by lane the very same verdict.
+    #[inline(always)]
+    fn may_hit(&self, four: [&Sphere; 4]) -> u32 {
+        let SphereRay {
+            origin: [ox, oy, oz],
+            dir: [dx, dy, dz],
+            dd: a,
+        } = *self;
+        let c = LaneMat::from_cols_array_2d(
+            &four.map(|s| [s.center.x, s.center.y, s.center.z, s.radius]),
+        )
+        .transpose();
+        let fx = ox - c.x_axis;
+        let fy = oy - c.y_axis;
+        let fz = oz - c.z_axis;
+        let s = (fx * dx + fy * dy + fz * dz) / a;
+        let (lx, ly, lz) = (fx - dx * s, fy - dy * s, fz - dz * s);
+        let ll = lx * lx + ly * ly + lz * lz;
+        let r = c.w_axis;
+        ll.cmple(r * r * Lanes::splat(1.0 + gamma(8))).bitmask()
+    }
+}
+
 impl Primitive for Sphere {
     /// Nothing shared: the primitive holds all it needs.
     type Shared = ();
 
-    /// Nothing is computed once per ray.
-    type RayData = ();
+    /// The lanes of the four-at-a-time rejection.
+    type RayData = SphereRay;
 
     #[inline]
-    fn ray_data(_: &Ray) {}
+    fn ray_data(ray: &Ray) -> SphereRay {
+        let (o, d) = (ray.origin, ray.dir);
+        SphereRay {
+            origin: [o.x, o.y, o.z].map(Lanes::splat),
+            dir: [d.x, d.y, d.z].map(Lanes::splat),
+            dd: Lanes::splat(d.dot(d)),
+        }
+    }
 
     /// The centre ± radius, widened by the rounding of the two additions, so
     /// the box holds every point of the sphere.
@@ -117,50 +162,58 @@ impl Primitive for Sphere {
     }
 
     #[inline]
-    fn closest_hit(&self, _: &(), ray: &Ray, _: &(), t_min: Real, t_max: Real) -> Option<PrimHit> {
+    fn closest_hit(
+        &self,
+        _: &(),
+        ray: &Ray,
+        _: &SphereRay,
+        t_min: Real,
+        t_max: Real,
+    ) -> Option<PrimHit> {
         self.intersect(ray, t_min, t_max)
             .map(|t| PrimHit::new(t, 0.0, 0.0))
     }
 
     #[inline]
-    fn any_hit(&self, _: &(), ray: &Ray, _: &(), t_min: Real, t_max: Real) -> bool {
+    fn any_hit(&self, _: &(), ray: &Ray, _: &SphereRay, t_min: Real, t_max: Real) -> bool {
         self.intersect(ray, t_min, t_max).is_some()
     }
 
-    /// Four spheres at a time: the rejection of [`Sphere::roots`] (the
-    /// squared distance from the centre to the ray's line against `r²`) in
-    /// SIMD lanes, with the same operations in the same order, so lane by
-    /// lane the very same verdict; the spheres it keeps go through
-    /// `closest_hit`. Most spheres a grid cell hands over are rejected here.
-    #[inline]
+    /// Four spheres at a time ([`SphereRay::may_hit`]); the spheres it
+    /// keeps go through `closest_hit`. Most spheres a grid cell hands over
+    /// are rejected there. Inlined into the grid's walk: a call per cell
+    /// costs more than the rejection of the cell's spheres.
+    #[inline(always)]
     fn closest_hits(
         prims: &[Self],
         shared: &(),
         refs: &[u32],
         ray: &Ray,
-        _: &(),
+        data: &SphereRay,
         t_min: Real,
         t_max: Real,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
-        let (o, d) = (ray.origin, ray.dir);
-        let [dx, dy, dz] = [d.x, d.y, d.z].map(Lanes::splat);
-        let a = Lanes::splat(d.dot(d));
-        let slack = Lanes::splat(1.0 + gamma(8));
-        closest_hits_prefiltered(prims, shared, refs, ray, &(), t_min, t_max, keep, |four| {
-            let c = LaneMat::from_cols_array_2d(
-                &four.map(|s| [s.center.x, s.center.y, s.center.z, s.radius]),
-            )
-            .transpose();
-            let fx = Lanes::splat(o.x) - c.x_axis;
-            let fy = Lanes::splat(o.y) - c.y_axis;
-            let fz = Lanes::splat(o.z) - c.z_axis;
-            let s = (fx * dx + fy * dy + fz * dz) / a;
-            let (lx, ly, lz) = (fx - dx * s, fy - dy * s, fz - dz * s);
-            let ll = lx * lx + ly * ly + lz * lz;
-            let r = c.w_axis;
-            ll.cmple(r * r * slack).bitmask()
+        closest_hits_prefiltered(prims, shared, refs, ray, data, t_min, t_max, keep, |four| {
+            data.may_hit(four)
         });
+    }
+
+    /// Four spheres at a time, as [`Sphere::closest_hits`], until one is hit
+    /// (a shadow ray's work in a cell).
+    #[inline(always)]
+    fn any_hits(
+        prims: &[Self],
+        shared: &(),
+        refs: &[u32],
+        ray: &Ray,
+        data: &SphereRay,
+        t_min: Real,
+        t_max: Real,
+    ) -> bool {
+        any_hits_prefiltered(prims, shared, refs, ray, data, t_min, t_max, |four| {
+            data.may_hit(four)
+        })
     }
 
     /// Arvo's test: the squared distance from the centre to the box, against
@@ -268,11 +321,12 @@ mod tests {
             hits.push((r, h));
             t_max
         };
+        let data = Sphere::ray_data(ray);
         if batched {
-            Sphere::closest_hits(spheres, &(), refs, ray, &(), 0.0, t_max, &mut keep);
+            Sphere::closest_hits(spheres, &(), refs, ray, &data, 0.0, t_max, &mut keep);
         } else {
             for &r in refs {
-                if let Some(h) = spheres[r as usize].closest_hit(&(), ray, &(), 0.0, t_max) {
+                if let Some(h) = spheres[r as usize].closest_hit(&(), ray, &data, 0.0, t_max) {
                     keep(r, h);
                 }
             }
@@ -283,7 +337,8 @@ mod tests {
     proptest::proptest! {
         /// The four-lane rejection keeps exactly the spheres the scalar test
         /// hits, in every lane of full and partial chunks, for rays through
-        /// random points and rays that graze a sphere (the rejection's edge).
+        /// random points and rays that graze a sphere (the rejection's edge);
+        /// the four-at-a-time any-hit test agrees with one at a time.
         #[test]
         fn four_at_a_time_equals_one_at_a_time(
             cr in proptest::collection::vec(proptest::array::uniform4(-1.0f32..1.0), 1..12),
@@ -312,6 +367,11 @@ mod tests {
             proptest::prop_assert_eq!(
                 all_hits(&spheres, &refs, &ray, t_max, true),
                 all_hits(&spheres, &refs, &ray, t_max, false)
+            );
+            let data = Sphere::ray_data(&ray);
+            proptest::prop_assert_eq!(
+                Sphere::any_hits(&spheres, &(), &refs, &ray, &data, 0.0, t_max),
+                refs.iter().any(|&r| spheres[r as usize].any_hit(&(), &ray, &data, 0.0, t_max))
             );
         }
     }
