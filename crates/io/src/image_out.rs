@@ -107,10 +107,40 @@ pub fn linear_to_srgb(x: f32) -> f32 {
     }
 }
 
-/// Linear to an 8-bit sRGB code value (rounded).
+/// Linear to an 8-bit sRGB code value: [`linear_to_srgb`], scaled and
+/// rounded.
+fn srgb8_exact(x: f32) -> u8 {
+    (linear_to_srgb(x) * 255.0 + 0.5) as u8
+}
+
+/// [`srgb8_exact`] without a `powf` per channel: the code of `x` is the
+/// number of the 255 thresholds at or below it, threshold `k` being the
+/// least `f32` whose exact code is above `k`. The exact code never
+/// decreases as `x` grows (the transfer function and `powf` are monotonic),
+/// so the two agree; a test compares them around every threshold and
+/// across [0, 1].
 #[inline]
 fn srgb8(x: f32) -> u8 {
-    (linear_to_srgb(x) * 255.0 + 0.5) as u8
+    static THRESHOLDS: std::sync::OnceLock<[f32; 255]> = std::sync::OnceLock::new();
+    let t = THRESHOLDS.get_or_init(|| std::array::from_fn(|k| least_with_code(k as u8 + 1)));
+    // NaN is at or above no threshold: code 0, as `srgb8_exact` gives.
+    t.partition_point(|&t| t <= x) as u8
+}
+
+/// The least `f32` in [0, 1] whose [`srgb8_exact`] is at least `code`: a
+/// binary search over the bit patterns, which for non-negative floats are
+/// ordered as the values are.
+fn least_with_code(code: u8) -> f32 {
+    let (mut lo, mut hi) = (0u32, 1.0f32.to_bits());
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        if srgb8_exact(f32::from_bits(mid)) >= code {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    f32::from_bits(lo)
 }
 
 /// Writes linear-RGB pixels (row-major, row 0 at the top) as PNG or EXR,
@@ -298,6 +328,35 @@ mod tests {
         assert_eq!(srgb8(0.5), 188);
         assert_eq!(srgb8(2.0), 255);
         assert_eq!(srgb8(-1.0), 0);
+    }
+
+    #[test]
+    fn srgb8_by_thresholds_equals_the_exact_code() {
+        for x in [
+            0.0,
+            -0.0,
+            -1.0,
+            1.0,
+            2.0,
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+        ] {
+            assert_eq!(srgb8(x), srgb8_exact(x), "{x}");
+        }
+        // Each code's first float and the one before it.
+        for code in 1..=255u8 {
+            let t = least_with_code(code).to_bits();
+            for b in [t - 1, t, t + 1] {
+                let x = f32::from_bits(b);
+                assert_eq!(srgb8(x), srgb8_exact(x), "{x:e}");
+            }
+        }
+        // Floats spread over [0, 1] by bit pattern (a prime stride).
+        for b in (0..=1.0f32.to_bits()).step_by(257) {
+            let x = f32::from_bits(b);
+            assert_eq!(srgb8(x), srgb8_exact(x), "{x:e}");
+        }
     }
 
     #[test]
