@@ -115,10 +115,10 @@ fn srgb8_exact(x: f32) -> u8 {
 
 /// [`srgb8_exact`] without a `powf` per channel: the code of `x` is the
 /// number of the 255 thresholds at or below it, threshold `k` being the
-/// least `f32` whose exact code is above `k`. The exact code never
-/// decreases as `x` grows (the transfer function and `powf` are monotonic),
-/// so the two agree; a test compares them around every threshold and
-/// across [0, 1].
+/// least `f32` whose exact code is above `k`. The two agree wherever the
+/// exact code never decreases as `x` grows, which holds while `powf` does
+/// not decrease; a test compares them around every threshold and across
+/// [0, 1].
 #[inline]
 fn srgb8(x: f32) -> u8 {
     static THRESHOLDS: std::sync::OnceLock<[f32; 255]> = std::sync::OnceLock::new();
@@ -344,7 +344,7 @@ mod tests {
         ] {
             assert_eq!(srgb8(x), srgb8_exact(x), "{x}");
         }
-        // Each code's first float and the one before it.
+        // Each code's first float and its two neighbours.
         for code in 1..=255u8 {
             let t = least_with_code(code).to_bits();
             for b in [t - 1, t, t + 1] {
