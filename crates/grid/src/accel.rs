@@ -171,12 +171,16 @@ pub trait Primitive: Sync {
     /// Tests `prims[r]` for each `r` of `refs`, in order, and calls
     /// `keep(r, hit)` for each hit; `keep` returns the `t_max` for the tests
     /// that follow (a grid's cell: its references, the best hit so far).
+    /// `best` is the reference whose hit set `t_max` ([`NO_SLOT`] when
+    /// none): `keep` has seen that hit, so it is not tested again (a large
+    /// triangle seen in several cells is tested in the first only).
     ///
     /// The default calls [`closest_hit`](Self::closest_hit) one primitive at
     /// a time. An override may test several primitives at once (in SIMD
     /// lanes) against the same `t_max`, so it may report hits beyond a
     /// limit that `keep` has lowered in between (the caller discards them);
-    /// otherwise it must report exactly the hits of the default.
+    /// otherwise it must report exactly the hits of the default, less any
+    /// of `best`.
     #[inline]
     #[allow(clippy::too_many_arguments)] // the primitives, what they share, the references, the query
     fn closest_hits(
@@ -187,11 +191,12 @@ pub trait Primitive: Sync {
         data: &Self::RayData,
         t_min: Real,
         t_max: Real,
+        best: u32,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) where
         Self: Sized,
     {
-        closest_hits_each(prims, shared, refs, ray, data, t_min, t_max, keep);
+        closest_hits_each(prims, shared, refs, ray, data, t_min, t_max, best, keep);
     }
 
     /// Whether any of `prims[r]`, `r` in `refs`, is hit with `t` in
@@ -229,9 +234,13 @@ pub fn closest_hits_each<P: Primitive>(
     data: &P::RayData,
     t_min: Real,
     mut t_max: Real,
+    best: u32,
     keep: &mut impl FnMut(u32, PrimHit) -> Real,
 ) {
     for &r in refs {
+        if r == best {
+            continue;
+        }
         if let Some(h) = prims[r as usize].closest_hit(shared, ray, data, t_min, t_max) {
             t_max = keep(r, h);
         }
@@ -254,17 +263,25 @@ pub fn any_hits_each<P: Primitive>(
         .any(|&r| prims[r as usize].any_hit(shared, ray, data, t_min, t_max))
 }
 
+/// The `best` of [`Primitive::closest_hits`] when there is no hit yet.
+pub const NO_SLOT: u32 = u32::MAX;
+
 /// A [`Primitive::closest_hits`] for primitives with a cheap test of four
 /// at once (SIMD lanes): the references are taken four at a time,
 /// `may_hit` says which of the four the ray may hit (bit `k` for the `k`-th;
 /// a chunk shorter than four repeats its last primitive), and
-/// [`Primitive::closest_hit`] tests those. `may_hit` must never clear the
-/// bit of a primitive that `closest_hit` would hit: computing the same
-/// rejection as `closest_hit`, with the same operations in the same order,
-/// guarantees it.
+/// [`Primitive::closest_hit`] tests those, but for `best` (pass `Some` of
+/// the `best` of [`Primitive::closest_hits`]; `None` for primitives seldom
+/// larger than a cell, such as spheres or the triangles of a dense mesh,
+/// where the comparison would cost more than it saves). `may_hit` must
+/// never clear the bit of a primitive that `closest_hit` would hit:
+/// computing the same rejection as `closest_hit`, with the same operations
+/// in the same order, guarantees it.
 ///
 /// ```
-/// use gridrt_grid::{closest_hits_prefiltered, Aabb, PrimHit, Primitive, Ray, Real, Vec3};
+/// use gridrt_grid::{
+///     closest_hits_prefiltered, Aabb, PrimHit, Primitive, Ray, Real, Vec3, NO_SLOT,
+/// };
 ///
 /// /// A slab `lo <= x <= hi`, hit only by rays that move along x.
 /// struct Slab(Real, Real);
@@ -291,11 +308,12 @@ pub fn any_hits_each<P: Primitive>(
 ///         moving: &bool,
 ///         t_min: Real,
 ///         t_max: Real,
+///         best: u32,
 ///         keep: &mut impl FnMut(u32, PrimHit) -> Real,
 ///     ) {
 ///         // A ray that does not move along x misses all four at once.
 ///         let mask = if *moving { 0b1111 } else { 0 };
-///         closest_hits_prefiltered(prims, shared, refs, ray, moving, t_min, t_max, keep, |_| mask);
+///         closest_hits_prefiltered(prims, shared, refs, ray, moving, t_min, t_max, Some(best), keep, |_| mask);
 ///     }
 /// }
 ///
@@ -303,10 +321,13 @@ pub fn any_hits_each<P: Primitive>(
 /// let mut hits = Vec::new();
 /// let ray = Ray::new(Vec3::ZERO, Vec3::X);
 /// let data = Slab::ray_data(&ray); // once per query
-/// Slab::closest_hits(&slabs, &(), &[0, 1], &ray, &data, 0.0, 10.0, &mut |r, h| {
+/// let mut keep = |r, h: PrimHit| {
 ///     hits.push((r, h.t));
 ///     h.t
-/// });
+/// };
+/// Slab::closest_hits(&slabs, &(), &[0, 1], &ray, &data, 0.0, 10.0, NO_SLOT, &mut keep);
+/// // Reference 1 set the limit: another cell holding it does not test it again.
+/// Slab::closest_hits(&slabs, &(), &[0, 1], &ray, &data, 0.0, 1.0, 1, &mut keep);
 /// assert_eq!(hits, [(0, 3.0), (1, 1.0)]);
 /// ```
 #[inline(always)]
@@ -319,6 +340,7 @@ pub fn closest_hits_prefiltered<P: Primitive>(
     data: &P::RayData,
     t_min: Real,
     mut t_max: Real,
+    best: Option<u32>,
     keep: &mut impl FnMut(u32, PrimHit) -> Real,
     mut may_hit: impl FnMut([&P; 4]) -> u32,
 ) {
@@ -329,6 +351,9 @@ pub fn closest_hits_prefiltered<P: Primitive>(
         while pass != 0 {
             let k = pass.trailing_zeros() as usize;
             pass &= pass - 1;
+            if best == Some(chunk[k]) {
+                continue;
+            }
             if let Some(h) = four[k].closest_hit(shared, ray, data, t_min, t_max) {
                 t_max = keep(chunk[k], h);
             }

@@ -107,6 +107,7 @@ impl<P: Primitive> Exhaustive<P> {
                 &data,
                 t_min,
                 limit,
+                crate::NO_SLOT,
                 &mut |r, h| {
                     // Strictly nearer only: on a tie in t the earlier (lower) index stays.
                     if best.is_none_or(|b| h.t < b.t) {

@@ -123,7 +123,7 @@ mod radix;
 
 pub use accel::{
     any_hits_each, any_hits_prefiltered, closest_hits_each, closest_hits_prefiltered, Accelerator,
-    Hit, PrimHit, Primitive,
+    Hit, PrimHit, Primitive, NO_SLOT,
 };
 pub use config::{
     CellStorage, GridConfig, GridStats, AUTO_DIRECT_MAX, DEFAULT_BUDGET_FACTOR, HIERARCHY_MIN_REFS,

@@ -65,9 +65,18 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
             self.t_min,
             self.t_lim,
         );
-        P::closest_hits(prims, shared, refs, ray, data, t_min, t_lim, &mut |r, h| {
-            self.keep(Hit::new(h, prim_id(ids, r), r))
-        });
+        let best = self.best.as_ref().map_or(crate::NO_SLOT, |b| b.slot);
+        P::closest_hits(
+            prims,
+            shared,
+            refs,
+            ray,
+            data,
+            t_min,
+            t_lim,
+            best,
+            &mut |r, h| self.keep(Hit::new(h, prim_id(ids, r), r)),
+        );
     }
 
     /// Tests the primitive in slot `r`, keeping its hit if it is better

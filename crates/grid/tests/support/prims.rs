@@ -91,28 +91,40 @@ impl Primitive for Sphere {
         _: &(),
         t_min: Real,
         t_max: Real,
+        best: u32,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
         let (o, d) = (ray.origin, ray.dir);
         let a = d.dot(d);
         let dl = [d.x, d.y, d.z].map(Lanes::splat);
         let (al, aa) = (Lanes::splat(a), Lanes::splat(a * a));
-        closest_hits_prefiltered(prims, shared, refs, ray, &(), t_min, t_max, keep, |four| {
-            let m = LaneMat::from_cols_array_2d(
-                &four.map(|s| [s.center.x, s.center.y, s.center.z, s.radius]),
-            )
-            .transpose();
-            let f = [
-                Lanes::splat(o.x) - m.x_axis,
-                Lanes::splat(o.y) - m.y_axis,
-                Lanes::splat(o.z) - m.z_axis,
-            ];
-            let b = f[0] * dl[0] + f[1] * dl[1] + f[2] * dl[2];
-            let r2 = m.w_axis * m.w_axis;
-            let mv = [0, 1, 2].map(|k| f[k] * al - dl[k] * b);
-            let miss = (mv[0] * mv[0] + mv[1] * mv[1] + mv[2] * mv[2]) - aa * r2;
-            miss.cmple(Lanes::ZERO).bitmask()
-        });
+        closest_hits_prefiltered(
+            prims,
+            shared,
+            refs,
+            ray,
+            &(),
+            t_min,
+            t_max,
+            Some(best),
+            keep,
+            |four| {
+                let m = LaneMat::from_cols_array_2d(
+                    &four.map(|s| [s.center.x, s.center.y, s.center.z, s.radius]),
+                )
+                .transpose();
+                let f = [
+                    Lanes::splat(o.x) - m.x_axis,
+                    Lanes::splat(o.y) - m.y_axis,
+                    Lanes::splat(o.z) - m.z_axis,
+                ];
+                let b = f[0] * dl[0] + f[1] * dl[1] + f[2] * dl[2];
+                let r2 = m.w_axis * m.w_axis;
+                let mv = [0, 1, 2].map(|k| f[k] * al - dl[k] * b);
+                let miss = (mv[0] * mv[0] + mv[1] * mv[1] + mv[2] * mv[2]) - aa * r2;
+                miss.cmple(Lanes::ZERO).bitmask()
+            },
+        );
     }
 
     /// The squared distance from the centre to the box against `r²`, with a
@@ -323,6 +335,7 @@ impl Primitive for Triangle {
         shear: &Shear,
         t_min: Real,
         t_max: Real,
+        best: u32,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
         closest_hits_prefiltered(
@@ -333,6 +346,7 @@ impl Primitive for Triangle {
             shear,
             t_min,
             t_max,
+            Some(best),
             keep,
             |four| shear.triangles_may_hit(|k| four.map(|t| t.lanes(k))),
         );

@@ -297,11 +297,21 @@ impl Primitive for MeshTriangle {
         shear: &Shear,
         t_min: Real,
         t_max: Real,
+        _best: u32,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
-        closest_hits_prefiltered(prims, verts, refs, ray, shear, t_min, t_max, keep, |four| {
-            Self::may_hit_four(four, verts, shear)
-        });
+        closest_hits_prefiltered(
+            prims,
+            verts,
+            refs,
+            ray,
+            shear,
+            t_min,
+            t_max,
+            None,
+            keep,
+            |four| Self::may_hit_four(four, verts, shear),
+        );
     }
 
     /// Four at a time, as in `closest_hits`.

@@ -151,11 +151,12 @@ impl Primitive for Shape {
         shear: &LazyShear,
         t_min: Real,
         t_max: Real,
+        best: u32,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
         if refs.len() < 4 {
             // Too few for the four-lane filter to pay for its set-up.
-            return closest_hits_each(prims, shared, refs, ray, shear, t_min, t_max, keep);
+            return closest_hits_each(prims, shared, refs, ray, shear, t_min, t_max, best, keep);
         }
         closest_hits_prefiltered(
             prims,
@@ -165,6 +166,7 @@ impl Primitive for Shape {
             shear,
             t_min,
             t_max,
+            Some(best),
             keep,
             |four| Shape::may_hit(ray, shear, four),
         );

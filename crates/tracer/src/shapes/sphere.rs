@@ -192,11 +192,21 @@ impl Primitive for Sphere {
         data: &SphereRay,
         t_min: Real,
         t_max: Real,
+        _best: u32,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
-        closest_hits_prefiltered(prims, shared, refs, ray, data, t_min, t_max, keep, |four| {
-            data.may_hit(four)
-        });
+        closest_hits_prefiltered(
+            prims,
+            shared,
+            refs,
+            ray,
+            data,
+            t_min,
+            t_max,
+            None,
+            keep,
+            |four| data.may_hit(four),
+        );
     }
 
     /// Four spheres at a time, as [`Sphere::closest_hits`], until one is hit
@@ -255,6 +265,7 @@ impl Surface for Sphere {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use gridrt_grid::NO_SLOT;
 
     #[test]
     fn hits_from_outside_and_inside() {
@@ -323,7 +334,17 @@ mod tests {
         };
         let data = Sphere::ray_data(ray);
         if batched {
-            Sphere::closest_hits(spheres, &(), refs, ray, &data, 0.0, t_max, &mut keep);
+            Sphere::closest_hits(
+                spheres,
+                &(),
+                refs,
+                ray,
+                &data,
+                0.0,
+                t_max,
+                NO_SLOT,
+                &mut keep,
+            );
         } else {
             for &r in refs {
                 if let Some(h) = spheres[r as usize].closest_hit(&(), ray, &data, 0.0, t_max) {

@@ -323,6 +323,7 @@ impl Primitive for Triangle {
         shear: &Shear,
         t_min: Real,
         t_max: Real,
+        best: u32,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
         closest_hits_prefiltered(
@@ -333,6 +334,7 @@ impl Primitive for Triangle {
             shear,
             t_min,
             t_max,
+            Some(best),
             keep,
             |four| shear.triangles_may_hit(|k| four.map(|t| t.lanes(k))),
         );
@@ -405,6 +407,7 @@ pub(super) fn surface_point([p0, p1, p2]: [Vec3; 3], h: &PrimHit) -> SurfacePoin
 #[cfg(test)]
 mod tests {
     use super::*;
+    use gridrt_grid::NO_SLOT;
 
     fn ray(o: [Real; 3], d: [Real; 3]) -> Ray {
         Ray::new(Vec3::from_array(o), Vec3::from_array(d))
@@ -566,16 +569,20 @@ mod tests {
             let target = Vec3::new(through[0] as Real, through[1] as Real, through[2] as Real) * 0.5;
             let r = Ray::new(origin, target - origin);
             let shear = Shear::new(&r);
-            let all = |batched: bool| {
+            // `best`: the reference whose hit was seen before, not tested again.
+            let all = |batched: bool, best: u32| {
                 let mut hits = Vec::new();
                 let mut keep = |i: u32, h: PrimHit| {
                     hits.push((i, h));
                     Real::INFINITY
                 };
                 if batched {
-                    Triangle::closest_hits(&tris, &(), &refs, &r, &shear, 0.0, Real::INFINITY, &mut keep);
+                    Triangle::closest_hits(&tris, &(), &refs, &r, &shear, 0.0, Real::INFINITY, best, &mut keep);
                 } else {
                     for (i, t) in tris.iter().enumerate() {
+                        if i as u32 == best {
+                            continue;
+                        }
                         if let Some(h) = t.closest_hit(&(), &r, &shear, 0.0, Real::INFINITY) {
                             keep(i as u32, h);
                         }
@@ -583,7 +590,12 @@ mod tests {
                 }
                 hits
             };
-            proptest::prop_assert_eq!(all(true), all(false));
+            let each = all(false, NO_SLOT);
+            proptest::prop_assert_eq!(all(true, NO_SLOT), each.clone());
+            if let Some(&(first, _)) = each.first() {
+                proptest::prop_assert_eq!(all(true, first), all(false, first));
+                proptest::prop_assert_eq!(all(true, first).len(), each.len() - 1);
+            }
             // Shadow rays: the batched any-hit answers as one at a time,
             // over the segment up to each hit and beyond.
             for t_max in [Real::INFINITY, 5.0, 4.5] {
@@ -615,7 +627,7 @@ mod tests {
             let r = Ray::new(origin, target - origin);
             let shear = Shape::ray_data(&r);
             let mut batched = Vec::new();
-            Shape::closest_hits(&shapes, &(), &refs, &r, &shear, 0.0, Real::INFINITY, &mut |i, h| {
+            Shape::closest_hits(&shapes, &(), &refs, &r, &shear, 0.0, Real::INFINITY, NO_SLOT, &mut |i, h| {
                 batched.push((i, h));
                 Real::INFINITY
             });
