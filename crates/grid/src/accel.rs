@@ -172,15 +172,16 @@ pub trait Primitive: Sync {
     /// `keep(r, hit)` for each hit; `keep` returns the `t_max` for the tests
     /// that follow (a grid's cell: its references, the best hit so far).
     /// `best` is the reference whose hit set `t_max` ([`NO_SLOT`] when
-    /// none): `keep` has seen that hit, so it is not tested again (a large
-    /// triangle seen in several cells is tested in the first only).
+    /// none): `keep` has seen that hit, so the default does not test it
+    /// again (a large triangle seen in several cells is tested in the
+    /// first only); an override may test it again, which changes nothing.
     ///
     /// The default calls [`closest_hit`](Self::closest_hit) one primitive at
     /// a time. An override may test several primitives at once (in SIMD
     /// lanes) against the same `t_max`, so it may report hits beyond a
     /// limit that `keep` has lowered in between (the caller discards them);
-    /// otherwise it must report exactly the hits of the default, less any
-    /// of `best`.
+    /// otherwise it must report exactly the hits of the default (with or
+    /// without that of `best`).
     #[inline]
     #[allow(clippy::too_many_arguments)] // the primitives, what they share, the references, the query
     fn closest_hits(
