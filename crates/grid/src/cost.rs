@@ -17,7 +17,7 @@
 //! Both sides leave out that a ray stops at its first hit, which favours
 //! the nested grid (its walk stops early, the flat cell tests everything):
 //! the estimate leans to the flat cell. The cell is nested only when the
-//! nested cost is at most [`MARGIN`] of the flat one.
+//! nested cost is at most [`COST_MARGIN`] of the flat one.
 
 use crate::geom::{self, Geom};
 use gridrt_bbox::Aabb;

@@ -260,7 +260,7 @@ impl Sandbox {
         }
     }
 
-    /// Reads a whole file that [`Sandbox::resolve`] returned, or the file
+    /// Reads a whole file that `Sandbox::resolve` returned, or the file
     /// named on the command line: it must be a regular file (a FIFO, a
     /// device or a folder is refused without blocking) within the size
     /// limit.

@@ -43,7 +43,7 @@ pub struct RenderOptions {
     /// The accelerator.
     pub accel: AccelKind,
     /// Grid build parameters. [`AccelKind::Grid`] uses them as given;
-    /// [`AccelKind::DenseGrid`] forces `storage` to [`CellStorage::Dense`].
+    /// [`AccelKind::DenseGrid`] forces `storage` to [`CellStorage::Dense`](gridrt_grid::CellStorage::Dense).
     /// With `threads: Some(1)` the build is sequential whatever
     /// `parallel_build` says.
     pub grid: GridConfig,

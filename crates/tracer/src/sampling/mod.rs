@@ -2,7 +2,7 @@
 //!
 //! A sample is a function of the pixel, the sample index, the number of
 //! samples per pixel and the dimension only, through integer hashes
-//! ([`SampleStream`]): no state is carried between pixels, so an image is
+//! (`SampleStream`): no state is carried between pixels, so an image is
 //! bit-identical whatever the tiling and the thread count. Dimensions are
 //! consumed in 2D pairs (pixel position, lens, light, BSDF, …); each pair of
 //! each pixel gets its own scramble and its own shuffle of the sample index,

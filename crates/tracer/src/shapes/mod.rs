@@ -141,7 +141,7 @@ impl Primitive for Shape {
     }
 
     /// Four at a time where all four are watertight triangles (see
-    /// [`Shape::may_hit`]); a cell of fewer than four one at a time.
+    /// `Shape::may_hit`); a cell of fewer than four one at a time.
     #[inline]
     fn closest_hits(
         prims: &[Self],

@@ -179,7 +179,7 @@ impl Primitive for Sphere {
         self.intersect(ray, t_min, t_max).is_some()
     }
 
-    /// Four spheres at a time ([`SphereRay::may_hit`]); the spheres it
+    /// Four spheres at a time (`SphereRay::may_hit`); the spheres it
     /// keeps go through `closest_hit`. Most spheres a grid cell hands over
     /// are rejected there. Inlined into the grid's walk: a call per cell
     /// costs more than the rejection of the cell's spheres.
