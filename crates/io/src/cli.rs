@@ -474,7 +474,15 @@ fn render(a: &RenderArgs, out: &mut dyn Write, cancel: &AtomicBool) -> Result<()
             b.set_message(speed_text(live.rays(), started.elapsed().as_secs_f64()));
         }
     };
+    // A PNG with no image before the end is kept as 8-bit sRGB while it
+    // renders: a quarter of the linear image's memory.
+    let png8 = format == crate::ImageFormat::Png
+        && a.partial.write_partial.is_none()
+        && !a.partial.save_on_interrupt;
     let result = match a.part.spec() {
+        None if png8 => renderer
+            .render_srgb8(&progress, cancel, &live)
+            .map(|(img, s)| (Rendered::Srgb8(img), s)),
         None => render_watched(&renderer, &a.output, a.partial, &progress, cancel, &live)
             .map(|(img, s)| (Rendered::Full(img), s)),
         Some(spec) => render_part(&renderer, spec, &progress, cancel)?,

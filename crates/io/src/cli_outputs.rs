@@ -7,7 +7,7 @@ use crate::error::{Error, Result};
 use crate::parts::{merge_parts, PartSpec};
 use clap::Args;
 use gridrt_tracer::{
-    Aov, AovImage, Cancelled, Framebuffer, LiveImage, PixelRect, RenderStats, Renderer,
+    Aov, AovImage, Cancelled, Framebuffer, LiveImage, PixelRect, RenderStats, Renderer, Srgb8Image,
 };
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -89,7 +89,7 @@ pub(crate) fn render_passes(
     aovs: Option<&AovList>,
 ) -> Vec<AovImage> {
     match (rendered, aovs) {
-        (Rendered::Full(_), Some(AovList(list))) => {
+        (Rendered::Full(_) | Rendered::Srgb8(_), Some(AovList(list))) => {
             let (w, h) = renderer.size();
             let all = PixelRect {
                 x0: 0,
@@ -119,6 +119,11 @@ pub(crate) fn stage_rendered(
             return Ok(vec![crate::stage_part(output, size, f, rects, images)?]);
         }
         Rendered::Full(image) => image,
+        Rendered::Srgb8(image) => {
+            let mut staged = vec![crate::stage_png8(output, image)?];
+            staged.extend(crate::stage_aov_pngs(output, passes)?);
+            return Ok(staged);
+        }
     };
     if passes.is_empty() {
         return Ok(vec![crate::stage_image(
@@ -272,6 +277,8 @@ impl PartArgs {
 pub(crate) enum Rendered {
     /// The whole frame.
     Full(Framebuffer),
+    /// The whole frame as 8-bit sRGB, for a PNG.
+    Srgb8(Srgb8Image),
     /// A part: its rectangles and their pixels.
     Part(Vec<PixelRect>, Vec<Framebuffer>),
 }

@@ -1,7 +1,7 @@
 //! Writing images (PNG, EXR) and other outputs atomically.
 
 use crate::error::{Error, Result};
-use gridrt_tracer::Rgb;
+use gridrt_tracer::{srgb8, Rgb, Srgb8Image};
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
@@ -84,65 +84,6 @@ fn parent_dir(path: &Path) -> &Path {
     }
 }
 
-/// Linear to sRGB, the exact piecewise transfer function (IEC 61966-2-1),
-/// clamped to [0, 1]; NaN gives 0.
-///
-/// ```
-/// use gridrt_io::linear_to_srgb;
-/// assert_eq!(linear_to_srgb(0.0), 0.0);
-/// assert_eq!(linear_to_srgb(1.0), 1.0);
-/// assert!((linear_to_srgb(0.5) - 0.7354).abs() < 1e-4); // not 0.5^(1/2.2) = 0.7297
-/// assert_eq!(linear_to_srgb(f32::NAN), 0.0);
-/// ```
-#[must_use]
-pub fn linear_to_srgb(x: f32) -> f32 {
-    if x.is_nan() || x <= 0.0 {
-        0.0
-    } else if x >= 1.0 {
-        1.0
-    } else if x <= 0.003_130_8 {
-        12.92 * x
-    } else {
-        1.055 * x.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-/// Linear to an 8-bit sRGB code value: [`linear_to_srgb`], scaled and
-/// rounded.
-fn srgb8_exact(x: f32) -> u8 {
-    (linear_to_srgb(x) * 255.0 + 0.5) as u8
-}
-
-/// [`srgb8_exact`] without a `powf` per channel: the code of `x` is the
-/// number of the 255 thresholds at or below it, threshold `k` being the
-/// least `f32` whose exact code is above `k`. The two agree wherever the
-/// exact code never decreases as `x` grows, which holds while `powf` does
-/// not decrease; a test compares them around every threshold and across
-/// [0, 1].
-#[inline]
-fn srgb8(x: f32) -> u8 {
-    static THRESHOLDS: std::sync::OnceLock<[f32; 255]> = std::sync::OnceLock::new();
-    let t = THRESHOLDS.get_or_init(|| std::array::from_fn(|k| least_with_code(k as u8 + 1)));
-    // NaN is at or above no threshold: code 0, as `srgb8_exact` gives.
-    t.partition_point(|&t| t <= x) as u8
-}
-
-/// The least `f32` in [0, 1] whose [`srgb8_exact`] is at least `code`: a
-/// binary search over the bit patterns, which for non-negative floats are
-/// ordered as the values are.
-fn least_with_code(code: u8) -> f32 {
-    let (mut lo, mut hi) = (0u32, 1.0f32.to_bits());
-    while lo < hi {
-        let mid = lo + (hi - lo) / 2;
-        if srgb8_exact(f32::from_bits(mid)) >= code {
-            hi = mid;
-        } else {
-            lo = mid + 1;
-        }
-    }
-    f32::from_bits(lo)
-}
-
 /// Writes linear-RGB pixels (row-major, row 0 at the top) as PNG or EXR,
 /// by the path's extension, atomically (see [`write_atomic`]).
 ///
@@ -180,15 +121,7 @@ pub fn stage_image(path: &Path, width: u32, height: u32, pixels: &[Rgb]) -> Resu
                     .iter()
                     .flat_map(|p| [srgb8(p.x), srgb8(p.y), srgb8(p.z)])
                     .collect();
-                let enc = image::codecs::png::PngEncoder::new(&mut w);
-                image::ImageEncoder::write_image(
-                    enc,
-                    &bytes,
-                    width,
-                    height,
-                    image::ExtendedColorType::Rgb8,
-                )
-                .map_err(image_io_error)?;
+                encode_png8(&mut w, width, height, &bytes)?;
             }
             ImageFormat::Exr => {
                 let clean = |x: f32| if x.is_finite() { x } else { 0.0 };
@@ -210,6 +143,41 @@ pub fn stage_image(path: &Path, width: u32, height: u32, pixels: &[Rgb]) -> Resu
         }
         w.flush()
     })
+}
+
+/// Stages an 8-bit sRGB image as a PNG at `path` (which must name a
+/// `.png`), as [`stage_image`] does with linear pixels: the same bytes for
+/// [`Srgb8Image::from_linear`] of those pixels.
+///
+/// # Errors
+/// As [`write_image`]; [`Error::Output`] also when `path` is not a PNG.
+///
+/// # Panics
+/// If `image.bytes.len() != 3 · width · height` (a caller bug).
+pub fn stage_png8(path: &Path, image: &Srgb8Image) -> Result<Staged> {
+    assert_eq!(
+        image.bytes.len() as u64,
+        3 * u64::from(image.width) * u64::from(image.height),
+        "byte count must be 3 × width × height"
+    );
+    if check_image_path(path)? != ImageFormat::Png {
+        return Err(Error::output(
+            path,
+            "8-bit sRGB pixels are written as PNG only",
+        ));
+    }
+    stage(path, |file| {
+        let mut w = BufWriter::new(file);
+        encode_png8(&mut w, image.width, image.height, &image.bytes)?;
+        w.flush()
+    })
+}
+
+/// Encodes 8-bit RGB `bytes` as a PNG into `w`.
+fn encode_png8(w: &mut impl Write, width: u32, height: u32, bytes: &[u8]) -> std::io::Result<()> {
+    let enc = image::codecs::png::PngEncoder::new(w);
+    image::ImageEncoder::write_image(enc, bytes, width, height, image::ExtendedColorType::Rgb8)
+        .map_err(image_io_error)
 }
 
 /// The I/O error inside an encoder's error (so "File too large" or "No
@@ -314,52 +282,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn srgb_curve_is_continuous_and_monotonic() {
-        let knee = 0.003_130_8_f32;
-        let below = 12.92 * knee;
-        let above = 1.055 * knee.powf(1.0 / 2.4) - 0.055;
-        assert!((below - above).abs() < 1e-6);
-        let mut last = 0.0;
-        for i in 0..=1000 {
-            let s = linear_to_srgb(i as f32 / 1000.0);
-            assert!(s >= last);
-            last = s;
-        }
-        assert_eq!(srgb8(0.5), 188);
-        assert_eq!(srgb8(2.0), 255);
-        assert_eq!(srgb8(-1.0), 0);
-    }
-
-    #[test]
-    fn srgb8_by_thresholds_equals_the_exact_code() {
-        for x in [
-            0.0,
-            -0.0,
-            -1.0,
-            1.0,
-            2.0,
-            f32::NAN,
-            f32::INFINITY,
-            f32::NEG_INFINITY,
-        ] {
-            assert_eq!(srgb8(x), srgb8_exact(x), "{x}");
-        }
-        // Each code's first float and its two neighbours.
-        for code in 1..=255u8 {
-            let t = least_with_code(code).to_bits();
-            for b in [t - 1, t, t + 1] {
-                let x = f32::from_bits(b);
-                assert_eq!(srgb8(x), srgb8_exact(x), "{x:e}");
-            }
-        }
-        // Floats spread over [0, 1] by bit pattern (a prime stride).
-        for b in (0..=1.0f32.to_bits()).step_by(257) {
-            let x = f32::from_bits(b);
-            assert_eq!(srgb8(x), srgb8_exact(x), "{x:e}");
-        }
-    }
-
-    #[test]
     fn formats_by_extension() {
         assert_eq!(
             ImageFormat::from_path(Path::new("a.PNG")).unwrap(),
@@ -395,6 +317,29 @@ mod tests {
             .map(|e| e.unwrap().file_name())
             .collect();
         assert_eq!(names.len(), 2, "{names:?}");
+    }
+
+    #[test]
+    fn png_from_srgb_bytes_is_the_png_from_linear_pixels() {
+        let dir = tempfile::tempdir().unwrap();
+        let px: Vec<Rgb> = (0..12)
+            .map(|i| Rgb::new(i as f32 / 7.0, 0.001 * i as f32, f32::NAN))
+            .collect();
+        let fb = gridrt_tracer::Framebuffer {
+            width: 4,
+            height: 3,
+            pixels: px.clone(),
+        };
+        let (a, b) = (dir.path().join("a.png"), dir.path().join("b.png"));
+        write_image(&a, 4, 3, &px).unwrap();
+        stage_png8(&b, &Srgb8Image::from_linear(&fb))
+            .unwrap()
+            .commit()
+            .unwrap();
+        assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+        // Bytes are for PNGs only.
+        let err = stage_png8(&dir.path().join("c.exr"), &Srgb8Image::from_linear(&fb));
+        assert!(err.unwrap_err().to_string().contains("PNG only"));
     }
 
     #[test]

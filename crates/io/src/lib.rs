@@ -97,9 +97,10 @@ pub use diff::{
     RgbImage,
 };
 pub use error::{escape_control, Error, Result};
+pub use gridrt_tracer::linear_to_srgb;
 pub use image_out::{
-    check_image_path, check_output_dir, linear_to_srgb, stage, stage_image, write_atomic,
-    write_image, ImageFormat, Staged,
+    check_image_path, check_output_dir, stage, stage_image, stage_png8, write_atomic, write_image,
+    ImageFormat, Staged,
 };
 pub use model::{
     default_material, load_model, load_model_in, Model, ModelCamera, ModelFormat, ModelMesh,

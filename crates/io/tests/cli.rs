@@ -79,6 +79,39 @@ fn render_subcommand_exr_and_stats() {
 }
 
 #[test]
+fn a_png_rendered_as_bytes_is_the_exr_converted() {
+    // A PNG alone is kept as 8-bit sRGB while it renders; with partial
+    // images it is kept linear and converted at the end; an EXR is linear.
+    let dir = tempfile::tempdir().unwrap();
+    let args = ["render", "--width", "40", "--height", "30", "--spp", "2"];
+    for (out, extra) in [
+        ("a.png", &[][..]),
+        ("b.png", &["--write-partial", "60"][..]),
+        ("c.exr", &[][..]),
+    ] {
+        let all: Vec<&str> = args
+            .iter()
+            .chain(&["-o", out])
+            .chain(extra)
+            .copied()
+            .collect();
+        let o = gridrt(&all, dir.path());
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let a = std::fs::read(dir.path().join("a.png")).unwrap();
+    assert_eq!(a, std::fs::read(dir.path().join("b.png")).unwrap());
+    let exr = image::open(dir.path().join("c.exr")).unwrap().to_rgb32f();
+    let codes: Vec<u8> = exr
+        .as_raw()
+        .iter()
+        .map(|&x| gridrt_tracer::srgb8(x))
+        .collect();
+    let png = image::open(dir.path().join("a.png")).unwrap().to_rgb8();
+    assert_eq!(png.as_raw(), &codes);
+    assert!(codes.iter().any(|&c| c > 0 && c < 255));
+}
+
+#[test]
 fn render_a_fixture_scene_and_a_model_with_each_accelerator() {
     let dir = tempfile::tempdir().unwrap();
     let scene = fixture("scenes/obj_cube_transform.ron");

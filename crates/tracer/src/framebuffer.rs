@@ -2,6 +2,7 @@
 //! render can be limited to.
 
 use crate::scene::Rgb;
+use crate::srgb8;
 
 /// A rectangle of pixels `x0..x1` × `y0..y1` of an image (row 0 at the
 /// top; the upper bounds excluded).
@@ -73,6 +74,89 @@ impl Framebuffer {
     #[must_use]
     pub fn non_finite_pixels(&self) -> usize {
         self.pixels.iter().filter(|p| !p.is_finite()).count()
+    }
+}
+
+/// A rendered image as 8-bit sRGB, three bytes a pixel, row-major, row 0
+/// at the top: the form a PNG stores, in a quarter of a [`Framebuffer`]'s
+/// memory. [`crate::Renderer::render_srgb8`] converts each tile as it
+/// finishes ([`srgb8`](crate::srgb8) of every channel), so the linear image never
+/// exists whole.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Srgb8Image {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// `3 × width × height` bytes, R, G, B of each pixel in turn.
+    pub bytes: Vec<u8>,
+}
+
+impl Srgb8Image {
+    /// The 8-bit image of a linear one: what its tiles would have given.
+    #[must_use]
+    pub fn from_linear(image: &Framebuffer) -> Self {
+        let mut out = ImageBuf::new(image.width, image.height, PixelFormat::Srgb8);
+        out.put(0, &image.pixels);
+        out.into_srgb8()
+    }
+}
+
+/// How a render keeps its pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum PixelFormat {
+    /// Linear floats: a [`Framebuffer`].
+    Linear,
+    /// 8-bit sRGB: an [`Srgb8Image`].
+    Srgb8,
+}
+
+/// The image a render fills in, tile by tile.
+pub(crate) enum ImageBuf {
+    Linear(Framebuffer),
+    Srgb8(Srgb8Image),
+}
+
+impl ImageBuf {
+    /// A black image of `format`.
+    pub(crate) fn new(width: u32, height: u32, format: PixelFormat) -> Self {
+        match format {
+            PixelFormat::Linear => Self::Linear(Framebuffer::new(width, height)),
+            PixelFormat::Srgb8 => Self::Srgb8(Srgb8Image {
+                width,
+                height,
+                bytes: vec![0; 3 * width as usize * height as usize],
+            }),
+        }
+    }
+
+    /// The linear image (of a render asked for one).
+    pub(crate) fn into_linear(self) -> Framebuffer {
+        match self {
+            Self::Linear(f) => f,
+            Self::Srgb8(_) => unreachable!("rendered as linear floats"),
+        }
+    }
+
+    /// The 8-bit image (of a render asked for one).
+    pub(crate) fn into_srgb8(self) -> Srgb8Image {
+        match self {
+            Self::Srgb8(img) => img,
+            Self::Linear(_) => unreachable!("rendered as sRGB bytes"),
+        }
+    }
+
+    /// Stores the linear pixels `run` from pixel `start` (row-major) on.
+    pub(crate) fn put(&mut self, start: usize, run: &[Rgb]) {
+        match self {
+            Self::Linear(f) => f.pixels[start..start + run.len()].copy_from_slice(run),
+            Self::Srgb8(img) => {
+                let out = &mut img.bytes[3 * start..3 * (start + run.len())];
+                for (o, p) in out.chunks_exact_mut(3).zip(run) {
+                    o.copy_from_slice(&[srgb8(p.x), srgb8(p.y), srgb8(p.z)]);
+                }
+            }
+        }
     }
 }
 

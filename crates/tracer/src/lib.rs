@@ -98,9 +98,11 @@ pub mod scene;
 #[cfg(feature = "serde")]
 mod serde_support;
 mod shapes;
+mod srgb;
 mod stats;
 pub mod suffern;
 pub mod texture;
+mod tiles;
 mod transform;
 mod validate;
 mod whitted;
@@ -108,7 +110,7 @@ mod whitted;
 pub use accel_of::{TriangleStorage, INDEXED_FROM};
 pub use aov::{Aov, AovImage};
 pub use error::{Cancelled, SceneError};
-pub use framebuffer::{Framebuffer, LiveImage, PixelRect};
+pub use framebuffer::{Framebuffer, LiveImage, PixelRect, Srgb8Image};
 pub use gridrt_grid::Accelerator;
 pub use ignored::{ignored_effects, Ignored, Where};
 pub use instancing::InstancingStats;
@@ -125,6 +127,7 @@ pub use shapes::{
     Cuboid, MeshTriangle, MeshVertices, MtTriangle, Plane, Shape, Shear, Sphere, SphereRay,
     Triangle, MT_EPSILON,
 };
+pub use srgb::{linear_to_srgb, srgb8};
 pub use texture::{MaterialMaps, Texture, TextureRef, Textures};
 pub use transform::Affine;
 

@@ -4,7 +4,7 @@
 use crate::accel_of::{build_accel, grid_config, with_accel, Accel, AccelOf, TriangleStorage};
 use crate::camera::CameraModel;
 use crate::error::{Cancelled, SceneError};
-use crate::framebuffer::{Framebuffer, LiveImage, PixelRect};
+use crate::framebuffer::{Framebuffer, ImageBuf, LiveImage, PixelFormat, PixelRect, Srgb8Image};
 use crate::instancing::InstancingStats;
 use crate::integrator::{Found, Integrator, Li, SceneData, Shading, ThreadState, Tracer, Whitted};
 use crate::path::PathTracer;
@@ -16,6 +16,7 @@ use crate::sampling::{FilterTable, PixelSamples, SampleStream, SamplerKind};
 use crate::scene::{Rgb, Scene};
 use crate::shapes::Surface;
 pub use crate::stats::RenderStats;
+use crate::tiles::{tiles, Tile, TILE};
 use gridrt_bbox::{Ray, Real, Vec3};
 use gridrt_grid::{Accelerator, Exhaustive, Grid, GridConfig, GridStats};
 use std::fmt;
@@ -395,8 +396,27 @@ impl Renderer {
         cancel: &AtomicBool,
         live: &LiveImage,
     ) -> Result<(Framebuffer, RenderStats), Cancelled> {
-        let all: Vec<u32> = (0..self.height).collect();
-        self.render_job_live(&all, (0, self.width), progress, cancel, Some(live))
+        let (image, stats) =
+            self.render_job_live(None, progress, cancel, Some(live), PixelFormat::Linear)?;
+        Ok((image.into_linear(), stats))
+    }
+
+    /// [`Renderer::render_live`] into 8-bit sRGB, each tile converted as it
+    /// finishes: for a PNG, the image takes a quarter of the memory, and
+    /// its bytes are those of [`Srgb8Image::from_linear`] of the linear
+    /// image.
+    ///
+    /// # Errors
+    /// [`Cancelled`] when the flag was raised.
+    pub fn render_srgb8(
+        &self,
+        progress: &(dyn Fn(u64, u64) + Sync),
+        cancel: &AtomicBool,
+        live: &LiveImage,
+    ) -> Result<(Srgb8Image, RenderStats), Cancelled> {
+        let (image, stats) =
+            self.render_job_live(None, progress, cancel, Some(live), PixelFormat::Srgb8)?;
+        Ok((image.into_srgb8(), stats))
     }
 
     fn render_job(
@@ -406,18 +426,31 @@ impl Renderer {
         progress: &(dyn Fn(u64, u64) + Sync),
         cancel: &AtomicBool,
     ) -> Result<(Framebuffer, RenderStats), Cancelled> {
-        self.render_job_live(rows, cols, progress, cancel, None)
+        let part = Some((rows, cols));
+        let (image, stats) =
+            self.render_job_live(part, progress, cancel, None, PixelFormat::Linear)?;
+        Ok((image.into_linear(), stats))
     }
 
+    /// Renders `part` (listed rows and a column range; the whole frame for
+    /// `None`) into an image of `format`.
     fn render_job_live(
         &self,
-        rows: &[u32],
-        cols: (u32, u32),
+        part: Option<(&[u32], (u32, u32))>,
         progress: &(dyn Fn(u64, u64) + Sync),
         cancel: &AtomicBool,
         live: Option<&LiveImage>,
-    ) -> Result<(Framebuffer, RenderStats), Cancelled> {
+        format: PixelFormat,
+    ) -> Result<(ImageBuf, RenderStats), Cancelled> {
         let start = Instant::now();
+        let all: Vec<u32>;
+        let (rows, cols) = match part {
+            Some(p) => p,
+            None => {
+                all = (0..self.height).collect();
+                (all.as_slice(), (0, self.width))
+            }
+        };
         let job = Job {
             camera: &self.camera,
             width: self.width,
@@ -432,6 +465,7 @@ impl Renderer {
             done: AtomicU64::new(0),
             pool: &self.pool,
             live,
+            format,
         };
         let out = with_accel!(&self.accel, |a| job.run_plan(a, &self.data, &self.plan))?;
         Ok((
@@ -482,6 +516,7 @@ impl Renderer {
             done: AtomicU64::new(0),
             pool: &self.pool,
             live: None,
+            format: PixelFormat::Linear,
         };
         let res = with_accel!(&self.accel, |a| job.run::<_, HitOnly, false>(a, &self.data));
         res.map_or(0, |o| o.pixels_hit)
@@ -551,18 +586,6 @@ impl Integrator for HitOnly {
     }
 }
 
-/// Side of a square tile, in pixels.
-const TILE: u32 = 16;
-
-/// Columns `x0..x1` of the rows `job.rows[k0..k1]`.
-#[derive(Clone, Copy, Debug)]
-struct Tile {
-    x0: u32,
-    x1: u32,
-    k0: usize,
-    k1: usize,
-}
-
 struct TileOut {
     pixels: Vec<Rgb>,
     rays: RayCounts,
@@ -570,7 +593,7 @@ struct TileOut {
 }
 
 struct Output {
-    image: Framebuffer,
+    image: ImageBuf,
     rays: RayCounts,
     pixels_hit: u64,
 }
@@ -593,6 +616,8 @@ struct Job<'a> {
     pool: &'a Pool,
     /// Filled as tiles finish, when the caller watches the render.
     live: Option<&'a LiveImage>,
+    /// How the image keeps its pixels.
+    format: PixelFormat,
 }
 
 impl Job<'_> {
@@ -685,38 +710,6 @@ impl Job<'_> {
         }
     }
 
-    /// Tiles of up to `TILE` columns by `TILE` listed rows.
-    fn tiles(&self) -> Vec<Tile> {
-        let mut tiles = Vec::new();
-        let (c0, c1) = self.cols;
-        for k0 in (0..self.rows.len()).step_by(TILE as usize) {
-            for x0 in (c0..c1).step_by(TILE as usize) {
-                tiles.push(Tile {
-                    x0,
-                    x1: (x0 + TILE).min(c1),
-                    k0,
-                    k1: (k0 + TILE as usize).min(self.rows.len()),
-                });
-            }
-        }
-        // Spread over the image in bit-reversed order (van der Corput), so
-        // that at any moment the tiles done sample the whole frame: the
-        // share of pixels done then tracks the share of the work done, and
-        // a progress estimate converges instead of running short while the
-        // cheap tiles go first. No pixel depends on the order.
-        let bits = usize::BITS - tiles.len().saturating_sub(1).leading_zeros();
-        let key = |i: usize| {
-            if bits == 0 {
-                0
-            } else {
-                i.reverse_bits() >> (usize::BITS - bits)
-            }
-        };
-        let mut order: Vec<usize> = (0..tiles.len()).collect();
-        order.sort_by_key(|&i| key(i));
-        order.into_iter().map(|i| tiles[i]).collect()
-    }
-
     /// Renders every tile (in parallel when the pool has threads) and
     /// assembles the image of the listed rows. Per-tile ray counts are
     /// summed in tile order.
@@ -731,7 +724,7 @@ impl Job<'_> {
         I: Integrator,
     {
         let tr = Tracer { accel, data };
-        let tiles = self.tiles();
+        let tiles = tiles(self.rows.len(), self.cols);
         let out_width = self.cols.1 - self.cols.0;
         let total = u64::from(out_width) * self.rows.len() as u64;
         let height = u32::try_from(self.rows.len()).expect("rows fit an image");
@@ -747,7 +740,7 @@ impl Job<'_> {
         let indexed: Vec<(usize, Tile)> = tiles.into_iter().enumerate().collect();
         // Each tile goes into the image as soon as it is done, so the
         // finished tiles never all wait beside the image.
-        let image = Mutex::new(Framebuffer::new(out_width, height));
+        let image = Mutex::new(ImageBuf::new(out_width, height, self.format));
         let one = |ts: &mut ThreadState<A::Scratch>, &(index, tile): &(usize, Tile)| {
             if self.cancel.load(Ordering::Relaxed) {
                 return None;
@@ -760,7 +753,7 @@ impl Job<'_> {
             let mut img = image.lock().unwrap_or_else(PoisonError::into_inner);
             for (row, k) in (tile.k0..tile.k1).enumerate() {
                 let start = k * out_width as usize + (tile.x0 - self.cols.0) as usize;
-                img.pixels[start..start + w].copy_from_slice(&out.pixels[row * w..(row + 1) * w]);
+                img.put(start, &out.pixels[row * w..(row + 1) * w]);
             }
             drop(img);
             let n = out.pixels.len() as u64;

@@ -81,6 +81,20 @@ fn live_image_follows_the_render_and_keeps_an_interrupted_one() {
         assert_eq!(img, full);
         assert_eq!(counter.rays(), stats.rays.total());
         assert!(counter.snapshot().is_none());
+        // As 8-bit sRGB, tile by tile: each byte the code of its linear
+        // channel, and the same rays.
+        let counter = LiveImage::rays_only();
+        let (png, _) = r.render_srgb8(&|_, _| {}, &never, &counter).unwrap();
+        assert_eq!((png.width, png.height), (80, 48));
+        let codes: Vec<u8> = full
+            .pixels
+            .iter()
+            .flat_map(|p| [p.x, p.y, p.z].map(gridrt_tracer::srgb8))
+            .collect();
+        assert_eq!(png.bytes, codes);
+        assert_eq!(png, gridrt_tracer::Srgb8Image::from_linear(&full));
+        assert!(codes.iter().any(|&c| c > 0 && c < 255));
+        assert_eq!(counter.rays(), stats.rays.total());
 
         // Cancelled after four tiles: what was done is kept, pixel for
         // pixel, and the missing tiles are exactly the black rest.

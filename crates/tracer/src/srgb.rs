@@ -1,0 +1,120 @@
+//! Linear light to sRGB: the transfer function of 8-bit images (PNG), and
+//! its 8-bit code values, shared by the renderer (which can keep an image
+//! as sRGB bytes while it renders) and the image writers.
+
+/// Linear to sRGB, the exact piecewise transfer function (IEC 61966-2-1),
+/// clamped to [0, 1]; NaN gives 0.
+///
+/// ```
+/// use gridrt_tracer::linear_to_srgb;
+/// assert_eq!(linear_to_srgb(0.0), 0.0);
+/// assert_eq!(linear_to_srgb(1.0), 1.0);
+/// assert!((linear_to_srgb(0.5) - 0.7354).abs() < 1e-4); // not 0.5^(1/2.2) = 0.7297
+/// assert_eq!(linear_to_srgb(f32::NAN), 0.0);
+/// ```
+#[must_use]
+pub fn linear_to_srgb(x: f32) -> f32 {
+    if x.is_nan() || x <= 0.0 {
+        0.0
+    } else if x >= 1.0 {
+        1.0
+    } else if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Linear to an 8-bit sRGB code value: [`linear_to_srgb`], scaled and
+/// rounded.
+fn srgb8_exact(x: f32) -> u8 {
+    (linear_to_srgb(x) * 255.0 + 0.5) as u8
+}
+
+/// Linear to an 8-bit sRGB code value: [`linear_to_srgb`] scaled by 255
+/// and rounded, without a `powf` per channel. The code of `x` is the
+/// number of the 255 thresholds at or below it, threshold `k` being the
+/// least `f32` whose exact code is above `k`. The two agree wherever the
+/// exact code never decreases as `x` grows, which holds while `powf` does
+/// not decrease; a test compares them around every threshold and across
+/// [0, 1]. NaN gives 0.
+///
+/// ```
+/// use gridrt_tracer::srgb8;
+/// assert_eq!((srgb8(0.0), srgb8(0.5), srgb8(1.0), srgb8(7.0)), (0, 188, 255, 255));
+/// ```
+#[inline]
+#[must_use]
+pub fn srgb8(x: f32) -> u8 {
+    static THRESHOLDS: std::sync::OnceLock<[f32; 255]> = std::sync::OnceLock::new();
+    let t = THRESHOLDS.get_or_init(|| std::array::from_fn(|k| least_with_code(k as u8 + 1)));
+    // NaN is at or above no threshold: code 0, as `srgb8_exact` gives.
+    t.partition_point(|&t| t <= x) as u8
+}
+
+/// The least `f32` in [0, 1] whose [`srgb8_exact`] is at least `code`: a
+/// binary search over the bit patterns, which for non-negative floats are
+/// ordered as the values are.
+fn least_with_code(code: u8) -> f32 {
+    let (mut lo, mut hi) = (0u32, 1.0f32.to_bits());
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        if srgb8_exact(f32::from_bits(mid)) >= code {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    f32::from_bits(lo)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_curve_is_continuous_and_monotonic() {
+        let knee = 0.003_130_8_f32;
+        let below = 12.92 * knee;
+        let above = 1.055 * knee.powf(1.0 / 2.4) - 0.055;
+        assert!((below - above).abs() < 1e-6);
+        let mut last = 0.0;
+        for i in 0..=1000 {
+            let s = linear_to_srgb(i as f32 / 1000.0);
+            assert!(s >= last);
+            last = s;
+        }
+        assert_eq!(srgb8(0.5), 188);
+        assert_eq!(srgb8(2.0), 255);
+        assert_eq!(srgb8(-1.0), 0);
+    }
+
+    #[test]
+    fn srgb8_by_thresholds_equals_the_exact_code() {
+        for x in [
+            0.0,
+            -0.0,
+            -1.0,
+            1.0,
+            2.0,
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+        ] {
+            assert_eq!(srgb8(x), srgb8_exact(x), "{x}");
+        }
+        // Each code's first float and its two neighbours.
+        for code in 1..=255u8 {
+            let t = least_with_code(code).to_bits();
+            for b in [t - 1, t, t + 1] {
+                let x = f32::from_bits(b);
+                assert_eq!(srgb8(x), srgb8_exact(x), "{x:e}");
+            }
+        }
+        // Floats spread over [0, 1] by bit pattern (a prime stride).
+        for b in (0..=1.0f32.to_bits()).step_by(257) {
+            let x = f32::from_bits(b);
+            assert_eq!(srgb8(x), srgb8_exact(x), "{x:e}");
+        }
+    }
+}
