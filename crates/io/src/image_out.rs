@@ -1,7 +1,7 @@
 //! Writing images (PNG, EXR) and other outputs atomically.
 
 use crate::error::{Error, Result};
-use gridrt_tracer::{srgb8, Rgb, Srgb8Image};
+use gridrt_tracer::{srgb8_into, Rgb, Srgb8Image};
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
@@ -117,10 +117,8 @@ pub fn stage_image(path: &Path, width: u32, height: u32, pixels: &[Rgb]) -> Resu
         let mut w = BufWriter::new(file);
         match format {
             ImageFormat::Png => {
-                let bytes: Vec<u8> = pixels
-                    .iter()
-                    .flat_map(|p| [srgb8(p.x), srgb8(p.y), srgb8(p.z)])
-                    .collect();
+                let mut bytes = vec![0; 3 * pixels.len()];
+                srgb8_into(&mut bytes, pixels);
                 encode_png8(&mut w, width, height, &bytes)?;
             }
             ImageFormat::Exr => {

@@ -2,7 +2,7 @@
 //! render can be limited to.
 
 use crate::scene::Rgb;
-use crate::srgb8;
+use crate::srgb8_into;
 
 /// A rectangle of pixels `x0..x1` × `y0..y1` of an image (row 0 at the
 /// top; the upper bounds excluded).
@@ -80,7 +80,7 @@ impl Framebuffer {
 /// A rendered image as 8-bit sRGB, three bytes a pixel, row-major, row 0
 /// at the top: the form a PNG stores, in a quarter of a [`Framebuffer`]'s
 /// memory. [`crate::Renderer::render_srgb8`] converts each tile as it
-/// finishes ([`srgb8`](crate::srgb8) of every channel), so the linear image never
+/// finishes ([`srgb8_into`](crate::srgb8_into)), so the linear image never
 /// exists whole.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Srgb8Image {
@@ -96,9 +96,13 @@ impl Srgb8Image {
     /// The 8-bit image of a linear one: what its tiles would have given.
     #[must_use]
     pub fn from_linear(image: &Framebuffer) -> Self {
-        let mut out = ImageBuf::new(image.width, image.height, PixelFormat::Srgb8);
-        out.put(0, &image.pixels);
-        out.into_srgb8()
+        let mut bytes = vec![0; 3 * image.pixels.len()];
+        srgb8_into(&mut bytes, &image.pixels);
+        Self {
+            width: image.width,
+            height: image.height,
+            bytes,
+        }
     }
 }
 
@@ -150,12 +154,7 @@ impl ImageBuf {
     pub(crate) fn put(&mut self, start: usize, run: &[Rgb]) {
         match self {
             Self::Linear(f) => f.pixels[start..start + run.len()].copy_from_slice(run),
-            Self::Srgb8(img) => {
-                let out = &mut img.bytes[3 * start..3 * (start + run.len())];
-                for (o, p) in out.chunks_exact_mut(3).zip(run) {
-                    o.copy_from_slice(&[srgb8(p.x), srgb8(p.y), srgb8(p.z)]);
-                }
-            }
+            Self::Srgb8(img) => srgb8_into(&mut img.bytes[3 * start..3 * (start + run.len())], run),
         }
     }
 }

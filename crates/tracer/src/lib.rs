@@ -127,7 +127,7 @@ pub use shapes::{
     Cuboid, MeshTriangle, MeshVertices, MtTriangle, Plane, Shape, Shear, Sphere, SphereRay,
     Triangle, MT_EPSILON,
 };
-pub use srgb::{linear_to_srgb, srgb8};
+pub use srgb::{linear_to_srgb, srgb8, srgb8_into};
 pub use texture::{MaterialMaps, Texture, TextureRef, Textures};
 pub use transform::Affine;
 

@@ -396,8 +396,10 @@ impl Renderer {
         cancel: &AtomicBool,
         live: &LiveImage,
     ) -> Result<(Framebuffer, RenderStats), Cancelled> {
+        let all: Vec<u32> = (0..self.height).collect();
+        let (cols, live) = ((0, self.width), Some(live));
         let (image, stats) =
-            self.render_job_live(None, progress, cancel, Some(live), PixelFormat::Linear)?;
+            self.render_job_live(&all, cols, progress, cancel, live, PixelFormat::Linear)?;
         Ok((image.into_linear(), stats))
     }
 
@@ -414,8 +416,10 @@ impl Renderer {
         cancel: &AtomicBool,
         live: &LiveImage,
     ) -> Result<(Srgb8Image, RenderStats), Cancelled> {
+        let all: Vec<u32> = (0..self.height).collect();
+        let (cols, live) = ((0, self.width), Some(live));
         let (image, stats) =
-            self.render_job_live(None, progress, cancel, Some(live), PixelFormat::Srgb8)?;
+            self.render_job_live(&all, cols, progress, cancel, live, PixelFormat::Srgb8)?;
         Ok((image.into_srgb8(), stats))
     }
 
@@ -426,31 +430,23 @@ impl Renderer {
         progress: &(dyn Fn(u64, u64) + Sync),
         cancel: &AtomicBool,
     ) -> Result<(Framebuffer, RenderStats), Cancelled> {
-        let part = Some((rows, cols));
         let (image, stats) =
-            self.render_job_live(part, progress, cancel, None, PixelFormat::Linear)?;
+            self.render_job_live(rows, cols, progress, cancel, None, PixelFormat::Linear)?;
         Ok((image.into_linear(), stats))
     }
 
-    /// Renders `part` (listed rows and a column range; the whole frame for
-    /// `None`) into an image of `format`.
+    /// Renders the listed `rows` over the columns `cols` into an image of
+    /// `format`.
     fn render_job_live(
         &self,
-        part: Option<(&[u32], (u32, u32))>,
+        rows: &[u32],
+        cols: (u32, u32),
         progress: &(dyn Fn(u64, u64) + Sync),
         cancel: &AtomicBool,
         live: Option<&LiveImage>,
         format: PixelFormat,
     ) -> Result<(ImageBuf, RenderStats), Cancelled> {
         let start = Instant::now();
-        let all: Vec<u32>;
-        let (rows, cols) = match part {
-            Some(p) => p,
-            None => {
-                all = (0..self.height).collect();
-                (all.as_slice(), (0, self.width))
-            }
-        };
         let job = Job {
             camera: &self.camera,
             width: self.width,

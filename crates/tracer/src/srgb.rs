@@ -2,6 +2,8 @@
 //! its 8-bit code values, shared by the renderer (which can keep an image
 //! as sRGB bytes while it renders) and the image writers.
 
+use crate::scene::Rgb;
+
 /// Linear to sRGB, the exact piecewise transfer function (IEC 61966-2-1),
 /// clamped to [0, 1]; NaN gives 0.
 ///
@@ -50,6 +52,18 @@ pub fn srgb8(x: f32) -> u8 {
     let t = THRESHOLDS.get_or_init(|| std::array::from_fn(|k| least_with_code(k as u8 + 1)));
     // NaN is at or above no threshold: code 0, as `srgb8_exact` gives.
     t.partition_point(|&t| t <= x) as u8
+}
+
+/// The 8-bit sRGB codes of linear `pixels` into `out`, three bytes a
+/// pixel (R, G, B, each [`srgb8`]): the bytes of a PNG.
+///
+/// # Panics
+/// If `out.len() != 3 · pixels.len()`.
+pub fn srgb8_into(out: &mut [u8], pixels: &[Rgb]) {
+    assert_eq!(out.len(), 3 * pixels.len(), "three bytes a pixel");
+    for (o, p) in out.chunks_exact_mut(3).zip(pixels) {
+        o.copy_from_slice(&[srgb8(p.x), srgb8(p.y), srgb8(p.z)]);
+    }
 }
 
 /// The least `f32` in [0, 1] whose [`srgb8_exact`] is at least `code`: a
