@@ -110,10 +110,17 @@ pub fn prefetch<T>(x: &T) {
     let _ = x;
 }
 
-/// [`prefetch`] for an address the grid's build holds as a pointer (a
-/// prefetch never faults, whatever the address).
+/// [`prefetch`] for an address held as a pointer, such as one computed
+/// from an index not yet checked: a prefetch never faults, whatever the
+/// address.
+///
+/// ```
+/// let v = vec![1u32; 64];
+/// gridrt_grid::mem::prefetch_ptr(v.as_ptr().wrapping_add(1000));
+/// assert_eq!(v[63], 1);
+/// ```
 #[inline(always)]
-pub(crate) fn prefetch_ptr<T>(x: *const T) {
+pub fn prefetch_ptr<T>(x: *const T) {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
