@@ -299,8 +299,7 @@ impl Renderer {
         progress: &(dyn Fn(u64, u64) + Sync),
         cancel: &AtomicBool,
     ) -> Result<(Framebuffer, RenderStats), Cancelled> {
-        let all: Vec<u32> = (0..self.height).collect();
-        self.render_job(&all, (0, self.width), progress, cancel)
+        self.render_job(&self.all_rows(), (0, self.width), progress, cancel)
     }
 
     /// Renders only the pixels of `window` (a crop window or one tile of a
@@ -396,10 +395,7 @@ impl Renderer {
         cancel: &AtomicBool,
         live: &LiveImage,
     ) -> Result<(Framebuffer, RenderStats), Cancelled> {
-        let all: Vec<u32> = (0..self.height).collect();
-        let (cols, live) = ((0, self.width), Some(live));
-        let (image, stats) =
-            self.render_job_live(&all, cols, progress, cancel, live, PixelFormat::Linear)?;
+        let (image, stats) = self.render_frame_live(progress, cancel, live, PixelFormat::Linear)?;
         Ok((image.into_linear(), stats))
     }
 
@@ -416,11 +412,25 @@ impl Renderer {
         cancel: &AtomicBool,
         live: &LiveImage,
     ) -> Result<(Srgb8Image, RenderStats), Cancelled> {
-        let all: Vec<u32> = (0..self.height).collect();
-        let (cols, live) = ((0, self.width), Some(live));
-        let (image, stats) =
-            self.render_job_live(&all, cols, progress, cancel, live, PixelFormat::Srgb8)?;
+        let (image, stats) = self.render_frame_live(progress, cancel, live, PixelFormat::Srgb8)?;
         Ok((image.into_srgb8(), stats))
+    }
+
+    /// Every row of the image: the whole frame's rows for a job.
+    fn all_rows(&self) -> Vec<u32> {
+        (0..self.height).collect()
+    }
+
+    /// Renders the whole frame into an image of `format`, filling `live`.
+    fn render_frame_live(
+        &self,
+        progress: &(dyn Fn(u64, u64) + Sync),
+        cancel: &AtomicBool,
+        live: &LiveImage,
+        format: PixelFormat,
+    ) -> Result<(ImageBuf, RenderStats), Cancelled> {
+        let cols = (0, self.width);
+        self.render_job_live(&self.all_rows(), cols, progress, cancel, Some(live), format)
     }
 
     fn render_job(
@@ -497,7 +507,7 @@ impl Renderer {
     /// [`Renderer::render`] splits frame time into traversal and shading.
     #[must_use]
     pub fn count_camera_hits(&self) -> u64 {
-        let all: Vec<u32> = (0..self.height).collect();
+        let all = self.all_rows();
         let job = Job {
             camera: &self.camera,
             width: self.width,
