@@ -36,10 +36,13 @@ fn srgb8_exact(x: f32) -> u8 {
 /// Linear to an 8-bit sRGB code value: [`linear_to_srgb`] scaled by 255
 /// and rounded, without a `powf` per channel. The code of `x` is the
 /// number of the 255 thresholds at or below it, threshold `k` being the
-/// least `f32` whose exact code is above `k`. The two agree wherever the
-/// exact code never decreases as `x` grows, which holds while `powf` does
-/// not decrease; a test compares them around every threshold and across
-/// [0, 1]. NaN gives 0.
+/// least `f32` whose exact code is at least `k`. A table gives the code at
+/// the start of each of the 128 equal steps of every octave from 2⁻¹³ to 1,
+/// where no step holds two thresholds; one comparison with the next
+/// threshold finishes. The two agree wherever the exact code never
+/// decreases as `x` grows, which holds while `powf` does not decrease; a
+/// test compares them around every threshold and across [0, 1]. NaN gives
+/// 0.
 ///
 /// ```
 /// use gridrt_tracer::srgb8;
@@ -48,10 +51,55 @@ fn srgb8_exact(x: f32) -> u8 {
 #[inline]
 #[must_use]
 pub fn srgb8(x: f32) -> u8 {
-    static THRESHOLDS: std::sync::OnceLock<[f32; 255]> = std::sync::OnceLock::new();
-    let t = THRESHOLDS.get_or_init(|| std::array::from_fn(|k| least_with_code(k as u8 + 1)));
-    // NaN is at or above no threshold: code 0, as `srgb8_exact` gives.
-    t.partition_point(|&t| t <= x) as u8
+    // NaN fails the comparison: code 0, as `srgb8_exact` gives.
+    if !(x >= STEPS_FROM) {
+        return 0;
+    }
+    if x >= 1.0 {
+        return 255;
+    }
+    let t = Srgb8Table::get();
+    let code = t.step_code[step_of(x)];
+    code + u8::from(x >= t.threshold[usize::from(code) + 1])
+}
+
+/// Below this (2⁻¹³) every code is 0: the first threshold is above it.
+const STEPS_FROM: f32 = 1.0 / 8192.0;
+/// Mantissa bits that pick a step within an octave (128 steps).
+const STEP_BITS: u32 = 7;
+/// The octaves from [`STEPS_FROM`] to 1.
+const OCTAVES: usize = 13;
+
+/// The step of `x` in [[`STEPS_FROM`], 1): its exponent and top mantissa
+/// bits, counted from `STEPS_FROM`'s.
+fn step_of(x: f32) -> usize {
+    ((x.to_bits() - STEPS_FROM.to_bits()) >> (23 - STEP_BITS)) as usize
+}
+
+/// The tables of [`srgb8`].
+struct Srgb8Table {
+    /// The exact code at the first float of each step.
+    step_code: [u8; OCTAVES << STEP_BITS],
+    /// `threshold[k]`: the least float whose code is at least `k`, for `k`
+    /// in 1..=255; `threshold[256]` is infinite (no code above 255).
+    threshold: [f32; 257],
+}
+
+impl Srgb8Table {
+    fn get() -> &'static Srgb8Table {
+        static TABLE: std::sync::OnceLock<Srgb8Table> = std::sync::OnceLock::new();
+        TABLE.get_or_init(|| Srgb8Table {
+            step_code: std::array::from_fn(|i| {
+                let first = STEPS_FROM.to_bits() + ((i as u32) << (23 - STEP_BITS));
+                srgb8_exact(f32::from_bits(first))
+            }),
+            threshold: std::array::from_fn(|k| match k {
+                0 => 0.0,
+                256 => f32::INFINITY,
+                k => least_with_code(k as u8),
+            }),
+        })
+    }
 }
 
 /// The 8-bit sRGB codes of linear `pixels` into `out`, three bytes a
@@ -125,6 +173,10 @@ mod tests {
                 assert_eq!(srgb8(x), srgb8_exact(x), "{x:e}");
             }
         }
+        // No step of the table holds two thresholds.
+        let steps: Vec<usize> = (1..=255u8).map(least_with_code).map(step_of).collect();
+        assert!(steps.windows(2).all(|w| w[0] < w[1]), "{steps:?}");
+        assert!(least_with_code(1) >= STEPS_FROM);
         // Floats spread over [0, 1] by bit pattern (a prime stride).
         for b in (0..=1.0f32.to_bits()).step_by(257) {
             let x = f32::from_bits(b);
