@@ -70,6 +70,7 @@ mod cli_stats;
 mod cli_view;
 mod diff;
 mod error;
+pub mod huge_page_alloc;
 mod image_out;
 mod model;
 mod model_scene;
@@ -98,6 +99,7 @@ pub use diff::{
 };
 pub use error::{escape_control, Error, Result};
 pub use gridrt_tracer::linear_to_srgb;
+pub use huge_page_alloc::HugePageAlloc;
 pub use image_out::{
     check_image_path, check_output_dir, stage, stage_image, stage_png8, write_atomic, write_image,
     ImageFormat, Staged,

@@ -17,6 +17,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// Exit code of a command stopped by Ctrl-C (128 + SIGINT), as shells use.
 const EXIT_INTERRUPTED: u8 = 130;
 
+/// Large arrays on huge pages (see [`gridrt_io::huge_page_alloc`]).
+#[global_allocator]
+static ALLOC: gridrt_io::HugePageAlloc = gridrt_io::HugePageAlloc;
+
 /// Raised by the Ctrl-C handler; polled by the renderer between tiles.
 static CANCEL: AtomicBool = AtomicBool::new(false);
 
