@@ -18,6 +18,12 @@
 //! - `cargo xtask accuracy [--quick] [--runs R] [--out DIR] [--no-precision]`
 //!   measures what accuracy costs (`docs/accuracy.md`, `docs/accuracy-spp.svg`).
 
+/// The `gridrt` binary's allocator, so that the timings here (the scene
+/// corpus, the speed-up table) see the memory the binary's users get: large
+/// arrays on huge pages.
+#[global_allocator]
+static ALLOC: gridrt_io::HugePageAlloc = gridrt_io::HugePageAlloc;
+
 mod accuracy;
 mod accuracy_plot;
 mod accuracy_precision;
