@@ -147,10 +147,10 @@ unsafe impl GlobalAlloc for HugePageAlloc {
     }
 
     unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        // A fresh mapping is zeroed already.
-        #[cfg(target_os = "linux")]
         if is_large(&layout) {
-            return large::map(layout.size());
+            // A fresh mapping is zeroed already.
+            // SAFETY: the caller's (a non-zero size).
+            return unsafe { self.alloc(layout) };
         }
         // SAFETY: the caller's (a non-zero size).
         unsafe { System.alloc_zeroed(layout) }
