@@ -29,7 +29,35 @@ impl<'a> DenseLookup<'a> {
     }
 }
 
+/// Cache lines of a nested grid's table, and of its references, that
+/// [`Sub::prefetch`] asks for.
+const PREFETCH_LINES: usize = 4;
+
 impl Sub {
+    /// Asks for the start of the arrays a walk of this nested grid reads
+    /// (its planes, occupancy bits, table and references), before the
+    /// walk's set-up, which needs the planes, then the bits, then the
+    /// table, each found only when the one before has arrived: for a ray
+    /// whose nested grid is not in the cache (one bouncing off a large
+    /// mesh), those misses overlap instead of following one another.
+    #[inline(always)]
+    pub(super) fn prefetch(&self) {
+        use crate::mem::prefetch_ptr;
+        for a in 0..3 {
+            prefetch_ptr(self.geom.planes[a].as_ptr());
+            prefetch_ptr(self.geom.walk[a].as_ptr());
+        }
+        prefetch_ptr(self.occ.as_ptr());
+        // A nested grid's table is short: its first lines, and the
+        // references' first.
+        for line in self.offsets.chunks(16).take(PREFETCH_LINES) {
+            prefetch_ptr(line.as_ptr());
+        }
+        for line in self.refs.chunks(16).take(PREFETCH_LINES) {
+            prefetch_ptr(line.as_ptr());
+        }
+    }
+
     /// The lookup of a nested grid's dense table.
     pub(super) fn lookup(&self) -> DenseLookup<'_> {
         DenseLookup::new(self.geom.dims, &self.occ, &self.offsets, &self.refs)

@@ -109,6 +109,7 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
     /// cell's references one by one: the same query, one level down.
     #[inline(never)]
     fn walk_sub(&mut self, sub: &Sub) {
+        sub.prefetch();
         if !sub.direct.is_empty() {
             self.test_refs(&sub.direct);
         }
@@ -274,6 +275,7 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
     /// outside this cell is found in the cell that holds the hit.
     #[inline(never)]
     fn walk_sub(&mut self, sub: &Sub) -> ControlFlow<()> {
+        sub.prefetch();
         self.test_refs(&sub.direct)?;
         let Some(dda) = Dda::new(&sub.geom, self.ray, self.t_min, self.t_max) else {
             return ControlFlow::Continue(());
