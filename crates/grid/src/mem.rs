@@ -87,6 +87,21 @@ pub(crate) fn prefetch_at<T>(xs: &[T], i: usize, back: bool) {
     }
 }
 
+/// Bytes of a cache line.
+const LINE_BYTES: usize = 64;
+
+/// Prefetches the cache lines of the first `bytes` bytes of `xs` (at most
+/// all of it): for a short array whose start a read will need, before the
+/// address of the element it needs is known.
+#[inline(always)]
+pub(crate) fn prefetch_head<T>(xs: &[T], bytes: usize) {
+    let end = std::mem::size_of_val(xs).min(bytes);
+    let start = xs.as_ptr().cast::<u8>();
+    for at in (0..end).step_by(LINE_BYTES) {
+        prefetch_ptr(start.wrapping_add(at));
+    }
+}
+
 /// Asks the CPU to bring the cache line holding `x` closer, ahead of a
 /// read (on x86-64; elsewhere nothing happens). A hint: no visible effect.
 /// The grid uses it when it gathers primitives; a renderer can use it for

@@ -29,9 +29,9 @@ impl<'a> DenseLookup<'a> {
     }
 }
 
-/// Cache lines of a nested grid's table, and of its references, that
-/// [`Sub::prefetch`] asks for.
-const PREFETCH_LINES: usize = 4;
+/// Bytes of a nested grid's table, and of its references, that
+/// [`Sub::prefetch`] asks for: four cache lines.
+const PREFETCH_BYTES: usize = 256;
 
 impl Sub {
     /// Asks for the start of the arrays a walk of this nested grid reads
@@ -42,20 +42,16 @@ impl Sub {
     /// mesh), those misses overlap instead of following one another.
     #[inline(always)]
     pub(super) fn prefetch(&self) {
-        use crate::mem::prefetch_ptr;
+        use crate::mem::prefetch_head;
         for a in 0..3 {
-            prefetch_ptr(self.geom.planes[a].as_ptr());
-            prefetch_ptr(self.geom.walk[a].as_ptr());
+            prefetch_head(&self.geom.planes[a], 1);
+            prefetch_head(&self.geom.walk[a], 1);
         }
-        prefetch_ptr(self.occ.as_ptr());
+        prefetch_head(&self.occ, 1);
         // A nested grid's table is short: its first lines, and the
         // references' first.
-        for line in self.offsets.chunks(16).take(PREFETCH_LINES) {
-            prefetch_ptr(line.as_ptr());
-        }
-        for line in self.refs.chunks(16).take(PREFETCH_LINES) {
-            prefetch_ptr(line.as_ptr());
-        }
+        prefetch_head(&self.offsets, PREFETCH_BYTES);
+        prefetch_head(&self.refs, PREFETCH_BYTES);
     }
 
     /// The lookup of a nested grid's dense table.
