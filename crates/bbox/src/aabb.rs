@@ -258,7 +258,10 @@ impl Aabb {
     /// let r = Ray::new(Vec3::new(-1.0, 0.5, 2.0), Vec3::new(-0.0, 0.0, -1.0));
     /// assert_eq!(b.hit(&r, 0.0, 10.0), None);
     /// ```
-    #[inline]
+    ///
+    /// Always inlined: every grid query starts with it, and as a call it
+    /// was a few per cent of a query's time.
+    #[inline(always)]
     #[must_use]
     pub fn hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<(Real, Real)> {
         debug_assert!(

@@ -143,8 +143,10 @@ pub(super) fn area_normal_f64(p: [Vec3; 3]) -> glam::DVec3 {
 /// (`c[k]` holds coordinate `k` of the three vertices in lanes 0..3; lane
 /// 3 is never used), which never hits when `degenerate`: the test of
 /// [`Triangle::intersect`], shared with the mesh triangles, which gather
-/// their vertices into the same lanes.
-#[inline]
+/// their vertices into the same lanes. Always inlined: left to the
+/// compiler, it stayed a call per full test in the grid's queries (while
+/// the exhaustive baseline inlined it).
+#[inline(always)]
 pub(super) fn intersect_lanes(
     c: [Lanes; 3],
     degenerate: bool,
@@ -314,7 +316,9 @@ impl Primitive for Triangle {
     /// rejecting the triangles whose edge functions have both signs and
     /// none zero, as `closest_hit` does first; the others go through
     /// `closest_hit`. A ray near a mesh rejects most triangles here.
-    #[inline]
+    /// Always inlined into the grid's walk: left to the compiler, it stayed
+    /// a call per occupied cell.
+    #[inline(always)]
     fn closest_hits(
         prims: &[Self],
         shared: &(),
