@@ -88,7 +88,7 @@ pub(crate) fn prefetch_at<T>(xs: &[T], i: usize, back: bool) {
 }
 
 /// Bytes of a cache line.
-const LINE_BYTES: usize = 64;
+pub(crate) const LINE_BYTES: usize = 64;
 
 /// Prefetches the cache lines of the first `bytes` bytes of `xs` (at most
 /// all of it): for a short array whose start a read will need, before the

@@ -31,7 +31,7 @@ impl<'a> DenseLookup<'a> {
 
 /// Bytes of a nested grid's table, and of its references, that
 /// [`Sub::prefetch`] asks for: four cache lines.
-const PREFETCH_BYTES: usize = 256;
+const PREFETCH_BYTES: usize = 4 * crate::mem::LINE_BYTES;
 
 impl Sub {
     /// Asks for the start of the arrays a walk of this nested grid reads
@@ -42,12 +42,12 @@ impl Sub {
     /// mesh), those misses overlap instead of following one another.
     #[inline(always)]
     pub(super) fn prefetch(&self) {
-        use crate::mem::prefetch_head;
+        use crate::mem::{prefetch_head, LINE_BYTES};
         for a in 0..3 {
-            prefetch_head(&self.geom.planes[a], 1);
-            prefetch_head(&self.geom.walk[a], 1);
+            prefetch_head(&self.geom.planes[a], LINE_BYTES);
+            prefetch_head(&self.geom.walk[a], LINE_BYTES);
         }
-        prefetch_head(&self.occ, 1);
+        prefetch_head(&self.occ, LINE_BYTES);
         // A nested grid's table is short: its first lines, and the
         // references' first.
         prefetch_head(&self.offsets, PREFETCH_BYTES);
