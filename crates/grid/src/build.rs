@@ -12,6 +12,7 @@
 //! same code runs sequentially.
 
 use crate::cells::{Cells, CellsOut};
+use crate::cluster;
 use crate::geom::{self, Geom, HARD_MAX_CELLS};
 use crate::geom::{gridded, is_gridded};
 use crate::hash_table::CellTable;
@@ -124,7 +125,17 @@ pub(crate) fn build<P: Primitive>(
     let mut dims = match config.dims {
         Some(d) => geom::cap_cells(d.map(|n| u64::from(n.max(1))), max_cells),
         None if config.direct(n) => [1; 3],
-        None => geom::resolution(ext, gridded, geom::sanitize_m(config.m), max_cells),
+        None => {
+            let m = geom::sanitize_m(config.m);
+            // `auto` sizes the top grid for what it holds itself when most
+            // primitives crowd into a few cells, which get nested grids.
+            let count = if config.auto && config.nest_min_refs == 0 {
+                cluster::top_count(prims, shared, &bounds, ext, gridded, m, max_cells)
+            } else {
+                gridded
+            };
+            geom::resolution(ext, count, m, max_cells)
+        }
     };
     // References are bounded too, so that huge primitives over a fine grid cannot
     // exhaust memory: past the limit the resolution is halved and the build retried.

@@ -104,6 +104,7 @@
 mod accel;
 mod build;
 mod cells;
+mod cluster;
 mod config;
 pub mod cost;
 mod counters;

@@ -12,9 +12,10 @@
 //!
 //! **Stopping rule.** A nested cell is subdivided again only if (1) it
 //! holds at least `min_refs` references, (2) at most [`PROGRESS`] of its
-//! parent cell's (a subdivision that did not separate them, as around the
-//! common vertex of a fan or in a stack of coincident triangles, is not
-//! repeated), (3) the depth is below [`MAX_DEPTH`], and (4) the memory
+//! parent cell's, or else they cover at most [`SHRINK`] of its area (a
+//! subdivision that neither separated them nor shrank the space around
+//! them, as around the common vertex of a fan or in a stack of coincident
+//! triangles, is not repeated), (3) the depth is below [`MAX_DEPTH`], and (4) the memory
 //! budget has taken every grid planned before it: the first nested grid
 //! the budget cannot take ends the build (planning the rest, as a scene
 //! of many detailed objects would ask, would cost more build time than
@@ -61,6 +62,13 @@ pub(crate) const MAX_DEPTH: u32 = 4;
 /// A nested cell is subdivided again only if it holds at most this
 /// fraction of its parent cell's references.
 pub(crate) const PROGRESS: f64 = 0.5;
+
+/// A nested cell holding more than [`PROGRESS`] of its parent cell's
+/// references is subdivided again only if they cover at most this fraction
+/// of its area: a small, detailed object that the parent grid, stretched
+/// over a large cell, left in one of its cells (the references did not
+/// separate, but the space around them shrank).
+pub(crate) const SHRINK: f64 = 0.25;
 
 /// A nested grid is built only if its occupied cells hold on average at
 /// most this fraction of the parent cell's references.
@@ -212,6 +220,9 @@ struct Candidate {
     start: u32,
     len: u32,
     depth: u32,
+    /// More than [`PROGRESS`] of its parent cell's references: nested only
+    /// if they cover at most [`SHRINK`] of the cell's area.
+    must_shrink: bool,
 }
 
 /// A nested grid planned but not filled: its geometry, its counted
@@ -268,6 +279,7 @@ impl Nested {
                 start,
                 len: refs.len() as u32,
                 depth: 1,
+                must_shrink: false,
             })
             .collect();
         cands.sort_unstable_by_key(|c| c.start);
@@ -300,7 +312,7 @@ impl Nested {
                 let plans = map_indices(b1 - b0, p.parallel, |i| {
                     let c = &cands[b0 + i];
                     let (g, refs) = refs_of(c);
-                    plan(prims, shared, g, c.idx, refs, p)
+                    plan(prims, shared, g, c.idx, refs, c.must_shrink, p)
                 });
                 // Granted in order, so the same grids are built whatever
                 // the threads and the batches.
@@ -358,13 +370,14 @@ impl Nested {
                 let parent_len = cands[granted[k]].len as f64;
                 for (c, w) in sub.offsets.windows(2).enumerate() {
                     let len = (w[1] - w[0]) as usize;
-                    if len >= p.min_refs && len as f64 <= PROGRESS * parent_len {
+                    if len >= p.min_refs {
                         next.push(Candidate {
                             parent: Some(base + k),
                             idx: sub.geom.index_of(c),
                             start: w[0],
                             len: len as u32,
                             depth: sub.depth + 1,
+                            must_shrink: len as f64 > PROGRESS * parent_len,
                         });
                     }
                 }
@@ -523,17 +536,25 @@ fn split<P: Primitive>(
 }
 
 /// Plans the nested grid of cell `idx` of grid `g`, whose references are
-/// `refs`; `None` when it would not separate them.
+/// `refs`; `None` when it would not separate them, or, with `must_shrink`,
+/// when they cover more than [`SHRINK`] of the cell's area.
 fn plan<P: Primitive>(
     prims: &[P],
     shared: &P::Shared,
     g: &Geom,
     idx: [u32; 3],
     refs: &[u32],
+    must_shrink: bool,
     p: &NestParams,
 ) -> Option<Plan> {
     let (direct, inner, boxes) = split(prims, shared, g, idx, refs);
     let cell = cover(g, idx, boxes.iter().copied());
+    if must_shrink
+        && geom::wide(cell.surface_area())
+            > SHRINK * geom::wide(g.padded_cell_box(idx).surface_area())
+    {
+        return None;
+    }
     let e = cell.extent();
     let ext = [geom::wide(e.x), geom::wide(e.y), geom::wide(e.z)];
     let dims = geom::resolution(ext, inner.len(), p.m, MAX_SUB_CELLS);

@@ -246,6 +246,71 @@ fn a_wall_crossing_the_crowded_cell_is_tested_directly() {
     assert!(c.tests_per_ray() < 100.0, "{c:?} {:?}", g.stats());
 }
 
+/// The stadium in miniature: 3,000 small triangles in a unit ball, a
+/// 2,000-unit room of 20 medium triangles around it. `auto` sizes the top
+/// grid for the room (a few cells per axis), and the room's triangles that
+/// share the cluster's large cell stretch its nested grid, which then holds
+/// the cluster in one of its cells: that cell is nested again because the
+/// space around the cluster shrank, though its references did not split.
+#[test]
+fn a_small_cluster_in_a_large_room_gets_a_coarse_top_and_deep_nesting() {
+    use gridrt_grid::QueryCounters;
+    let mut scene: Vec<Triangle> = (0..3000)
+        .map(|i| {
+            let a = i as Real;
+            let c = Vec3::new((a * 0.37).sin(), (a * 0.11).cos(), (a * 0.07).sin()) * 0.5;
+            Triangle::new(c, c + Vec3::X * 0.02, c + Vec3::Z * 0.02)
+        })
+        .collect();
+    for i in 0..20 {
+        let a = i as Real * 1.7;
+        let p = Vec3::new(a.sin(), (0.5 * a).cos(), (1.3 * a).sin()) * 1000.0;
+        scene.push(Triangle::new(p, p + Vec3::X * 30.0, p + Vec3::Y * 30.0));
+    }
+    // Three near the cluster, in its large cell, spanning little of it.
+    for p in [[150.0, 0.0, 0.0], [-100.0, 80.0, 50.0], [0.0, -120.0, 90.0]] {
+        let p = Vec3::from_array(p);
+        scene.push(Triangle::new(p, p + Vec3::X * 30.0, p + Vec3::Z * 30.0));
+    }
+    let flat = Grid::build(
+        scene.clone(),
+        &GridConfig {
+            auto: false,
+            ..GridConfig::default()
+        },
+    );
+    let g = Grid::build(scene.clone(), &GridConfig::default());
+    g.check_invariants().expect("a valid grid");
+    let cells = |d: [u32; 3]| d.iter().map(|&n| u64::from(n)).product::<u64>();
+    assert!(
+        cells(g.dims()) * 27 <= cells(flat.dims()),
+        "{:?} against {:?}",
+        g.dims(),
+        flat.dims()
+    );
+    assert!(g.stats().nest_levels >= 2, "{:?}", g.stats());
+    let auto = [
+        GridConfig::default(),
+        GridConfig {
+            mailbox: true,
+            ..GridConfig::default()
+        },
+    ];
+    let checker = Checker::new(scene, &auto);
+    let mut scratch = gridrt_grid::Accelerator::scratch(&g);
+    let mut c = QueryCounters::default();
+    for i in 0..100 {
+        let a = i as Real * 0.2;
+        let to = Vec3::new(a.sin(), a.cos(), (0.3 * a).sin()) * 0.4;
+        for from in [Vec3::new(0.3, 3.0, 4.0), Vec3::new(-900.0, 400.0, 700.0)] {
+            let ray = Ray::new(from, to - from);
+            checker.check(&ray, 0.0, Real::INFINITY);
+            g.closest_hit_counted(&ray, 0.0, Real::INFINITY, &mut scratch, &mut c);
+        }
+    }
+    assert!(c.tests_per_ray() < 100.0, "{c:?} {:?}", g.stats());
+}
+
 /// A fan of 4,000 triangles around one vertex in a large room: the
 /// references never separate near the common vertex, so nesting must not
 /// make a ray test more primitives than the exhaustive baseline does
