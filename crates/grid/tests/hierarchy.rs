@@ -173,16 +173,21 @@ fn absurd_settings_stay_within_the_budget() {
     }
 }
 
-#[test]
-fn auto_nests_a_crowded_cell_and_leaves_a_uniform_scene_flat() {
-    // A fine cluster in a huge room: the flat grid puts it in one cell.
-    let mut scene: Vec<Triangle> = (0..3000)
+/// 3,000 small triangles in a unit ball at the origin.
+fn small_cluster() -> Vec<Triangle> {
+    (0..3000)
         .map(|i| {
             let a = i as Real;
             let c = Vec3::new((a * 0.37).sin(), (a * 0.11).cos(), (a * 0.07).sin()) * 0.5;
             Triangle::new(c, c + Vec3::X * 0.02, c + Vec3::Z * 0.02)
         })
-        .collect();
+        .collect()
+}
+
+#[test]
+fn auto_nests_a_crowded_cell_and_leaves_a_uniform_scene_flat() {
+    // A fine cluster in a huge room: the flat grid puts it in one cell.
+    let mut scene = small_cluster();
     for k in [-1.0 as Real, 1.0] {
         let p = Vec3::splat(1000.0 * k);
         scene.push(Triangle::new(p, p + Vec3::X, p + Vec3::Y));
@@ -206,13 +211,7 @@ fn a_wall_crossing_the_crowded_cell_is_tested_directly() {
     use gridrt_grid::QueryCounters;
     // 3000 small triangles in a unit ball at the origin, in a 2000-unit
     // room, and a long thin wall passing by the cluster at x = 2.
-    let mut scene: Vec<Triangle> = (0..3000)
-        .map(|i| {
-            let a = i as Real;
-            let c = Vec3::new((a * 0.37).sin(), (a * 0.11).cos(), (a * 0.07).sin()) * 0.5;
-            Triangle::new(c, c + Vec3::X * 0.02, c + Vec3::Z * 0.02)
-        })
-        .collect();
+    let mut scene = small_cluster();
     for k in [-1.0 as Real, 1.0] {
         let p = Vec3::splat(1000.0 * k);
         scene.push(Triangle::new(p, p + Vec3::X, p + Vec3::Y));
@@ -255,13 +254,7 @@ fn a_wall_crossing_the_crowded_cell_is_tested_directly() {
 #[test]
 fn a_small_cluster_in_a_large_room_gets_a_coarse_top_and_deep_nesting() {
     use gridrt_grid::QueryCounters;
-    let mut scene: Vec<Triangle> = (0..3000)
-        .map(|i| {
-            let a = i as Real;
-            let c = Vec3::new((a * 0.37).sin(), (a * 0.11).cos(), (a * 0.07).sin()) * 0.5;
-            Triangle::new(c, c + Vec3::X * 0.02, c + Vec3::Z * 0.02)
-        })
-        .collect();
+    let mut scene = small_cluster();
     for i in 0..20 {
         let a = i as Real * 1.7;
         let p = Vec3::new(a.sin(), (0.5 * a).cos(), (1.3 * a).sin()) * 1000.0;
