@@ -15,11 +15,11 @@
 //! parent cell's, or else they cover at most [`SHRINK`] of its area (a
 //! subdivision that neither separated them nor shrank the space around
 //! them, as around the common vertex of a fan or in a stack of coincident
-//! triangles, is not repeated), (3) the depth is below [`MAX_DEPTH`], and (4) the memory
-//! budget has taken every grid planned before it: the first nested grid
-//! the budget cannot take ends the build (planning the rest, as a scene
-//! of many detailed objects would ask, would cost more build time than
-//! the grids built). A grid is not built at all when its cells
+//! triangles, is not repeated), (3) the depth is below [`MAX_DEPTH`], and
+//! (4) the memory budget has taken every grid planned before it: the first
+//! nested grid the budget cannot take ends the build (planning the rest,
+//! as a scene of many detailed objects would ask, would cost more build
+//! time than the grids built). A grid is not built at all when its cells
 //! would hold on average more than [`SEPARATION`] of the references (nothing
 //! separates them: walking it would cost more than testing them), or when
 //! more than [`MAX_HEAVY`] of its cells would each hold more than
