@@ -130,7 +130,7 @@ pub(crate) fn build<P: Primitive>(
             // `auto` sizes the top grid for what it holds itself when most
             // primitives crowd into a few cells, which get nested grids.
             let count = if config.auto && config.nest_min_refs == 0 {
-                cluster::top_count(prims, shared, &bounds, ext, gridded, m, max_cells)
+                cluster::top_count(prims, shared, &bounds, gridded, m, max_cells)
             } else {
                 gridded
             };

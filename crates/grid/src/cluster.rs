@@ -24,7 +24,7 @@
 //! the lecture's grid (Suffern's random spheres, whose densest cells hold
 //! about a dozen, are not touched).
 
-use crate::geom::{self, gridded};
+use crate::geom::{self, gridded, Geom};
 use crate::Primitive;
 use gridrt_bbox::Aabb;
 
@@ -42,37 +42,28 @@ pub(crate) const SAMPLE: usize = 1 << 16;
 pub(crate) const SHRINK: usize = 4;
 
 /// The count the top grid is sized for, of the `n` gridded primitives of
-/// `prims` inside `bounds` (extent `ext`), with multiplier `m` and at most
-/// `max_cells` cells: `n`, or less when most of them crowd into a few
-/// cells (see the module documentation).
+/// `prims` inside `bounds`, with multiplier `m` and at most `max_cells`
+/// cells: `n`, or less when most of them crowd into a few cells (see the
+/// module documentation).
 pub(crate) fn top_count<P: Primitive>(
     prims: &[P],
     shared: &P::Shared,
     bounds: &Aabb,
-    ext: [f64; 3],
     n: usize,
     m: f64,
     max_cells: u64,
 ) -> usize {
+    let ext = bounds.extent().to_array().map(geom::wide);
     let dims = geom::resolution(ext, n, m, max_cells);
-    let [nx, ny, nz] = dims.map(|d| d as usize);
-    let cells = nx * ny * nz;
+    let g = Geom::new(*bounds, dims);
+    let cells = g.cell_count() as usize;
     if cells <= 1 {
         return n;
     }
     let stride = prims.len().div_ceil(SAMPLE).max(1);
     // A cell is crowded once it holds `need` sampled centres.
     let need = (crate::cost::min_refs() as usize).div_ceil(stride).max(1) as u16;
-    let lo = bounds.min.to_array().map(geom::wide);
-    let scale: [f64; 3] = std::array::from_fn(|a| {
-        if ext[a] > 0.0 {
-            dims[a] as f64 / ext[a]
-        } else {
-            0.0
-        }
-    });
-    let axis =
-        |x: f64, a: usize| ((x - lo[a]) * scale[a]).clamp(0.0, (dims[a] - 1) as f64) as usize;
+    let [nx, ny, _] = dims.map(|d| d as usize);
     let mut counts = vec![0u16; cells];
     let (mut crowded_cells, mut crowded_samples) = (0usize, 0usize);
     for p in prims.iter().step_by(stride) {
@@ -80,14 +71,13 @@ pub(crate) fn top_count<P: Primitive>(
         if gridded(&b).is_none() {
             continue;
         }
-        let c = ((b.min + b.max) * 0.5).to_array().map(geom::wide);
-        let cell = axis(c[0], 0) + nx * (axis(c[1], 1) + ny * axis(c[2], 2));
-        let k = &mut counts[cell];
-        *k = k.saturating_add(1);
-        if *k == need {
+        let [i, j, k] = std::array::from_fn(|a| g.cell_of(a, (b.min[a] + b.max[a]) * 0.5) as usize);
+        let count = &mut counts[i + nx * (j + ny * k)];
+        *count = count.saturating_add(1);
+        if *count == need {
             crowded_cells += 1;
             crowded_samples += need as usize;
-        } else if *k > need {
+        } else if *count > need {
             crowded_samples += 1;
         }
     }
@@ -103,31 +93,14 @@ pub(crate) fn top_count<P: Primitive>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::PrimHit;
-    use gridrt_bbox::{Ray, Real, Vec3};
+    use crate::grid::tests::Ball;
+    use gridrt_bbox::{Real, Vec3};
 
-    /// A box, whose bounds are all `top_count` reads.
-    struct Cube(Vec3, Real);
-
-    impl Primitive for Cube {
-        type Shared = ();
-        type RayData = ();
-        fn ray_data(_: &Ray) {}
-        fn bounds(&self, _: &()) -> Aabb {
-            Aabb::new(self.0 - Vec3::splat(self.1), self.0 + Vec3::splat(self.1))
-        }
-        fn closest_hit(&self, _: &(), _: &Ray, _: &(), _: Real, _: Real) -> Option<PrimHit> {
-            None
-        }
-    }
-
-    fn count(prims: &[Cube]) -> usize {
+    fn count(prims: &[Ball]) -> usize {
         let b = prims
             .iter()
             .fold(Aabb::EMPTY, |b, p| b.union(p.bounds(&())));
-        let e = b.extent();
-        let ext = [e.x, e.y, e.z].map(geom::wide);
-        top_count(prims, &(), &b, ext, prims.len(), 0.75, 1 << 26)
+        top_count(prims, &(), &b, prims.len(), 0.75, 1 << 26)
     }
 
     /// Points spread by a fixed sequence over `[-1, 1]³`.
@@ -140,9 +113,9 @@ mod tests {
 
     #[test]
     fn a_small_crowd_in_a_large_box_sizes_the_top_grid_for_the_rest() {
-        // 20,000 small cubes in a unit ball, 50 spread over a 1000-wide box.
-        let mut prims: Vec<Cube> = spread(20_000, 0.5).map(|c| Cube(c, 0.01)).collect();
-        prims.extend(spread(50, 500.0).map(|c| Cube(c, 5.0)));
+        // 20,000 small balls in a unit ball, 50 spread over a 1000-wide box.
+        let mut prims: Vec<Ball> = spread(20_000, 0.5).map(|c| Ball(c, 0.01)).collect();
+        prims.extend(spread(50, 500.0).map(|c| Ball(c, 5.0)));
         let n = count(&prims);
         assert!(n < 200, "{n}");
         assert!(n >= 50, "the primitives outside the crowd count: {n}");
@@ -155,14 +128,14 @@ mod tests {
             s = s.wrapping_mul(6364136223846793005).wrapping_add(1);
             (s >> 40) as Real / (1u64 << 24) as Real
         };
-        let mut prims: Vec<Cube> = (0..100_000)
-            .map(|_| Cube(Vec3::new(next(), next(), next()) * 100.0, 0.05))
+        let mut prims: Vec<Ball> = (0..100_000)
+            .map(|_| Ball(Vec3::new(next(), next(), next()) * 100.0, 0.05))
             .collect();
         assert_eq!(count(&prims), prims.len());
         // A crowd of 16,000, but 6,000 elsewhere: sized for about 6,000,
         // the top grid would have only 1.5 times fewer cells per axis.
         prims.truncate(6000);
-        prims.extend(spread(16_000, 0.5).map(|c| Cube(c + Vec3::splat(50.0), 0.01)));
+        prims.extend(spread(16_000, 0.5).map(|c| Ball(c + Vec3::splat(50.0), 0.01)));
         assert_eq!(count(&prims), prims.len());
         // With 400 elsewhere it has 3.7 times fewer.
         prims.drain(400..6000);

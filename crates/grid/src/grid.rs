@@ -846,4 +846,4 @@ impl<P: Primitive> Grid<P> {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

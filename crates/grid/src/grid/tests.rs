@@ -4,9 +4,9 @@ use super::*;
 use crate::{Exhaustive, PrimHit};
 use gridrt_bbox::Vec3;
 
-/// A ball, just enough for these tests.
+/// A ball, just enough for these tests (and the cluster rule's).
 #[derive(Clone, Debug)]
-struct Ball(Vec3, Real);
+pub(crate) struct Ball(pub Vec3, pub Real);
 
 impl Primitive for Ball {
     type Shared = ();
