@@ -148,15 +148,12 @@ impl Shear {
             x[0] * y[2] - y[0] * x[2],
             x[1] * y[0] - y[1] * x[0],
         ];
-        // The signs as lane masks, by direct calls that inline (called
-        // through an array of function pointers, they can stay calls).
-        let (mut neg, mut pos, mut zero) = (0, 0, 0);
-        for e in e {
-            neg |= e.cmplt(Lanes::ZERO).bitmask();
-            pos |= e.cmpgt(Lanes::ZERO).bitmask();
-            zero |= e.cmpeq(Lanes::ZERO).bitmask();
-        }
-        !(neg & pos & !zero) & 0xf
+        // The signs as lane masks, combined in lanes: one bitmask in all.
+        let z0 = Lanes::ZERO;
+        let neg = e[0].cmplt(z0) | e[1].cmplt(z0) | e[2].cmplt(z0);
+        let pos = e[0].cmpgt(z0) | e[1].cmpgt(z0) | e[2].cmpgt(z0);
+        let zero = e[0].cmpeq(z0) | e[1].cmpeq(z0) | e[2].cmpeq(z0);
+        !(neg & pos & !zero).bitmask() & 0xf
     }
 }
 
