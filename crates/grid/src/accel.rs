@@ -346,8 +346,7 @@ pub fn closest_hits_prefiltered<P: Primitive>(
     mut may_hit: impl FnMut([&P; 4]) -> u32,
 ) {
     for chunk in refs.chunks(4) {
-        let n = chunk.len();
-        let four = std::array::from_fn(|k| &prims[chunk[k.min(n - 1)] as usize]);
+        let (four, n) = four_of(prims, chunk);
         let mut pass = may_hit(four) & ((1 << n) - 1);
         while pass != 0 {
             let k = pass.trailing_zeros() as usize;
@@ -379,8 +378,7 @@ pub fn any_hits_prefiltered<P: Primitive>(
     mut may_hit: impl FnMut([&P; 4]) -> u32,
 ) -> bool {
     for chunk in refs.chunks(4) {
-        let n = chunk.len();
-        let four = std::array::from_fn(|k| &prims[chunk[k.min(n - 1)] as usize]);
+        let (four, n) = four_of(prims, chunk);
         let mut pass = may_hit(four) & ((1 << n) - 1);
         while pass != 0 {
             let k = pass.trailing_zeros() as usize;
@@ -391,6 +389,21 @@ pub fn any_hits_prefiltered<P: Primitive>(
         }
     }
     false
+}
+
+/// The primitives of a chunk of one to four references, and its length: a
+/// chunk shorter than four repeats its last primitive.
+#[inline(always)]
+fn four_of<'p, P>(prims: &'p [P], chunk: &[u32]) -> ([&'p P; 4], usize) {
+    let n = chunk.len();
+    let at = |k: usize| &prims[chunk[k] as usize];
+    let four = if let &[a, b, c, d] = chunk {
+        // A full chunk, the common case, without the repeat's clamping.
+        [a, b, c, d].map(|r| &prims[r as usize])
+    } else {
+        std::array::from_fn(|k| at(k.min(n - 1)))
+    };
+    (four, n)
 }
 
 /// A structure that answers ray queries over a set of primitives it owns.
