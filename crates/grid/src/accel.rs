@@ -396,12 +396,11 @@ pub fn any_hits_prefiltered<P: Primitive>(
 #[inline(always)]
 fn four_of<'p, P>(prims: &'p [P], chunk: &[u32]) -> ([&'p P; 4], usize) {
     let n = chunk.len();
-    let at = |k: usize| &prims[chunk[k] as usize];
     let four = if let &[a, b, c, d] = chunk {
         // A full chunk, the common case, without the repeat's clamping.
         [a, b, c, d].map(|r| &prims[r as usize])
     } else {
-        std::array::from_fn(|k| at(k.min(n - 1)))
+        std::array::from_fn(|k| &prims[chunk[k.min(n - 1)] as usize])
     };
     (four, n)
 }

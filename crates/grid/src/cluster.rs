@@ -20,7 +20,7 @@
 //! scene): a cell is crowded when its estimated count reaches
 //! [`crate::cost::min_refs`], the fewest references a nested grid can pay
 //! for. The top grid is sized for the smaller count only when that is at
-//! most a quarter of `n` ([`SHRINK`]): a scene without a clear crowd keeps
+//! most a quarter of `n` ([`MIN_GAIN`]): a scene without a clear crowd keeps
 //! the lecture's grid (Suffern's random spheres, whose densest cells hold
 //! about a dozen, are not touched).
 
@@ -32,14 +32,14 @@ use gridrt_bbox::Aabb;
 pub(crate) const SAMPLE: usize = 1 << 16;
 
 /// The top grid is sized for the smaller count only when it is at most
-/// `1 / SHRINK` of all primitives (1.6 times fewer cells along each axis,
+/// `1 / MIN_GAIN` of all primitives (1.6 times fewer cells along each axis,
 /// or fewer still). Measured with `gridrt rays` (one thread, best of three
 /// alternated runs): the stadium's top count is 0.2% of its primitives,
 /// and its rays trace 1.0–2.1× as fast so; the 1,024,000-triangle mesh's
 /// is 16%, 1.2–1.3×; the dragon's, a dense surface whose crowded cells
 /// hold most of its triangles, would be 41%, and it traced 0.82–0.87× as
 /// fast, so it keeps the lecture's grid.
-pub(crate) const SHRINK: usize = 4;
+pub(crate) const MIN_GAIN: usize = 4;
 
 /// The count the top grid is sized for, of the `n` gridded primitives of
 /// `prims` inside `bounds`, with multiplier `m` and at most `max_cells`
@@ -83,7 +83,7 @@ pub(crate) fn top_count<P: Primitive>(
     }
     let crowd = (crowded_samples * stride).min(n);
     let top = n - crowd + crowded_cells;
-    if top.saturating_mul(SHRINK) <= n {
+    if top.saturating_mul(MIN_GAIN) <= n {
         top.max(1)
     } else {
         n
