@@ -295,6 +295,15 @@ impl Geom {
     }
 }
 
+/// How many cells the inclusive range `[lo, hi]` of [`Geom::cell_range`]
+/// holds: how many times [`Geom::for_each_cell`] calls its `f`.
+#[inline]
+pub(crate) fn range_cells((lo, hi): ([u32; 3], [u32; 3])) -> u64 {
+    (0..3)
+        .map(|a| u64::from((hi[a] + 1).saturating_sub(lo[a])))
+        .product()
+}
+
 /// The largest value below `x` (`x` itself for NaN and `−∞`).
 #[inline(always)]
 pub(crate) fn next_down(x: Real) -> Real {
@@ -447,6 +456,25 @@ mod tests {
         assert_eq!(resolution([1.0; 3], 5, 2.0, 0), [1, 1, 1]);
         let huge = resolution([1e30, 1e-30, 1.0], usize::MAX, wide(Real::MAX), u64::MAX);
         assert!(huge.iter().map(|&n| u64::from(n)).product::<u64>() <= HARD_MAX_CELLS);
+    }
+
+    #[test]
+    fn range_cells_counts_what_for_each_cell_visits() {
+        let g = Geom::new(Aabb::new(Vec3::ZERO, Vec3::new(8.0, 4.0, 2.0)), [8, 4, 2]);
+        let boxes = [
+            Aabb::new(Vec3::splat(0.5), Vec3::splat(0.5)),
+            Aabb::new(Vec3::new(1.5, 0.5, 0.5), Vec3::new(6.5, 3.5, 1.5)),
+            Aabb::new(Vec3::splat(-10.0), Vec3::splat(10.0)),
+            Aabb::EMPTY,
+        ];
+        for b in boxes {
+            let range = g.cell_range(&b);
+            let mut visits = 0;
+            g.for_each_cell(range, |_| visits += 1);
+            assert_eq!(range_cells(range), visits, "{b:?}");
+        }
+        // An empty range (`hi < lo` on an axis) holds no cell.
+        assert_eq!(range_cells(([3, 0, 0], [2, 5, 5])), 0);
     }
 
     #[test]

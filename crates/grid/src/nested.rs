@@ -569,12 +569,26 @@ fn plan<P: Primitive>(
         .zip(&boxes)
         .map(|(&r, b)| (r, geom.cell_range(b)))
         .collect();
+    // The references the grid would hold, from the ranges alone: the tests
+    // that need no more run before the count per cell, which costs a step
+    // per reference and cell (a plan of large triangles over a small cell
+    // covers most cells with each, and is refused).
+    let total: u64 = ranges.iter().map(|(_, r)| geom::range_cells(*r)).sum();
+    // Fewer cells are occupied than there are.
+    if total as f64 > SEPARATION * refs.len() as f64 * count as f64 {
+        return None;
+    }
+    if p.cost {
+        let est = cost::nested(&g.padded_cell_box(idx), &geom, total, direct.len());
+        if !cost::pays(refs.len(), est) {
+            return None;
+        }
+    }
     let mut offsets = vec![0u32; count + 1];
     for &(_, range) in &ranges {
         geom.for_each_cell(range, |c| offsets[c + 1] += 1);
     }
     let occupied = offsets[1..].iter().filter(|&&n| n > 0).count().max(1);
-    let total: u64 = offsets.iter().map(|&n| u64::from(n)).sum();
     if total as f64 > SEPARATION * refs.len() as f64 * occupied as f64 {
         return None;
     }
@@ -588,12 +602,6 @@ fn plan<P: Primitive>(
         > MAX_HEAVY
     {
         return None;
-    }
-    if p.cost {
-        let est = cost::nested(&g.padded_cell_box(idx), &geom, total, direct.len());
-        if !cost::pays(refs.len(), est) {
-            return None;
-        }
     }
     for c in 0..count {
         offsets[c + 1] += offsets[c];
