@@ -549,10 +549,8 @@ fn plan<P: Primitive>(
 ) -> Option<Plan> {
     let (direct, inner, boxes) = split(prims, shared, g, idx, refs);
     let cell = cover(g, idx, boxes.iter().copied());
-    if must_shrink
-        && geom::wide(cell.surface_area())
-            > SHRINK * geom::wide(g.padded_cell_box(idx).surface_area())
-    {
+    let parent = g.padded_cell_box(idx);
+    if must_shrink && geom::wide(cell.surface_area()) > SHRINK * geom::wide(parent.surface_area()) {
         return None;
     }
     let e = cell.extent();
@@ -564,6 +562,17 @@ fn plan<P: Primitive>(
     let mut geom = Geom::new(cell, dims).with_pad(p.pad);
     geom.slab = p.slab;
     let count = geom.cell_count() as usize;
+    // Each reference lies in a cell at least, and the estimate grows with
+    // the references: with one each it bounds the plan's from below, and
+    // most refused plans are refused here, before any cell range.
+    if p.cost
+        && !cost::pays(
+            refs.len(),
+            cost::nested(&parent, &geom, inner.len() as u64, direct.len()),
+        )
+    {
+        return None;
+    }
     let ranges: Vec<(u32, CellRange)> = inner
         .iter()
         .zip(&boxes)
@@ -579,7 +588,7 @@ fn plan<P: Primitive>(
         return None;
     }
     if p.cost {
-        let est = cost::nested(&g.padded_cell_box(idx), &geom, total, direct.len());
+        let est = cost::nested(&parent, &geom, total, direct.len());
         if !cost::pays(refs.len(), est) {
             return None;
         }
