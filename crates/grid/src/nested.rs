@@ -52,6 +52,7 @@ use crate::geom::{self, Geom};
 use crate::par::map_indices;
 use crate::Primitive;
 use gridrt_bbox::{Aabb, Real};
+use std::borrow::Cow;
 
 /// Most cells of one nested grid.
 pub(crate) const MAX_SUB_CELLS: u64 = 1 << 16;
@@ -463,7 +464,7 @@ impl Nested {
                 return Err(format!("cell {idx:?}: nested offsets malformed"));
             }
             let mut want = Vec::new();
-            for &p in &inner {
+            for &p in inner.iter() {
                 let range = sg.cell_range(&prims[p as usize].bounds(shared));
                 sg.for_each_cell(range, |c| want.push((c, p)));
             }
@@ -499,13 +500,13 @@ impl Nested {
 /// whole cell, and the object would fall into a few nested cells again.
 /// Only when the direct ones are at most an eighth of the references:
 /// otherwise none. The third list holds the boxes of the second.
-fn split<P: Primitive>(
+fn split<'r, P: Primitive>(
     prims: &[P],
     shared: &P::Shared,
     g: &Geom,
     idx: [u32; 3],
-    refs: &[u32],
-) -> (Vec<u32>, Vec<u32>, Vec<Aabb>) {
+    refs: &'r [u32],
+) -> (Vec<u32>, Cow<'r, [u32]>, Vec<Aabb>) {
     let cell = g.padded_cell_box(idx);
     let half = cell.extent() * 0.5;
     let spans = |b: &Aabb| {
@@ -519,7 +520,7 @@ fn split<P: Primitive>(
         .collect();
     let spanning = boxes.iter().filter(|b| spans(b)).count();
     if spanning == 0 || spanning * 8 > refs.len() {
-        return (Vec::new(), refs.to_vec(), boxes);
+        return (Vec::new(), Cow::Borrowed(refs), boxes);
     }
     let mut direct = Vec::with_capacity(spanning);
     let mut inner = Vec::with_capacity(refs.len() - spanning);
@@ -532,7 +533,7 @@ fn split<P: Primitive>(
             inner_boxes.push(b);
         }
     }
-    (direct, inner, inner_boxes)
+    (direct, Cow::Owned(inner), inner_boxes)
 }
 
 /// Plans the nested grid of cell `idx` of grid `g`, whose references are
