@@ -563,15 +563,22 @@ fn plan<P: Primitive>(
     let mut geom = Geom::new(cell, dims).with_pad(p.pad);
     geom.slab = p.slab;
     let count = geom.cell_count() as usize;
+    // Whether a grid holding `total` references pays, by the estimate.
+    let pays = |total: u64| {
+        !p.cost
+            || cost::pays(
+                refs.len(),
+                cost::nested(&parent, &geom, total, direct.len()),
+            )
+    };
+    // Whether `total` references in `occupied` cells are separated enough.
+    let separates = |total: u64, occupied: usize| {
+        total as f64 <= SEPARATION * refs.len() as f64 * occupied as f64
+    };
     // Each reference lies in a cell at least, and the estimate grows with
     // the references: with one each it bounds the plan's from below, and
     // most refused plans are refused here, before any cell range.
-    if p.cost
-        && !cost::pays(
-            refs.len(),
-            cost::nested(&parent, &geom, inner.len() as u64, direct.len()),
-        )
-    {
+    if !pays(inner.len() as u64) {
         return None;
     }
     let ranges: Vec<(u32, CellRange)> = inner
@@ -584,22 +591,16 @@ fn plan<P: Primitive>(
     // per reference and cell (a plan of large triangles over a small cell
     // covers most cells with each, and is refused).
     let total: u64 = ranges.iter().map(|(_, r)| geom::range_cells(*r)).sum();
-    // Fewer cells are occupied than there are.
-    if total as f64 > SEPARATION * refs.len() as f64 * count as f64 {
+    // At most every cell is occupied: a bound before the count.
+    if !separates(total, count) || !pays(total) {
         return None;
-    }
-    if p.cost {
-        let est = cost::nested(&parent, &geom, total, direct.len());
-        if !cost::pays(refs.len(), est) {
-            return None;
-        }
     }
     let mut offsets = vec![0u32; count + 1];
     for &(_, range) in &ranges {
         geom.for_each_cell(range, |c| offsets[c + 1] += 1);
     }
     let occupied = offsets[1..].iter().filter(|&&n| n > 0).count().max(1);
-    if total as f64 > SEPARATION * refs.len() as f64 * occupied as f64 {
+    if !separates(total, occupied) {
         return None;
     }
     // The unseparated core: a ray that crossed two cells holding more than
