@@ -189,6 +189,11 @@ pub struct GridStats {
     pub nested_cells: u64,
     /// The deepest level of nested grids (0: the flat grid alone).
     pub nest_levels: u32,
+    /// The nested grids level by level, the ones in the flat grid's cells
+    /// first (empty without nesting): how many grids, cells and
+    /// references each level holds, which shows where the hierarchy stopped
+    /// separating the primitives.
+    pub levels: Vec<NestLevel>,
     /// The `nest_min_refs` the build used (given, or with
     /// [`GridConfig::auto`] the cost model's [`crate::cost::min_refs`];
     /// 0: no nesting).
@@ -197,6 +202,25 @@ pub struct GridStats {
     pub budget: usize,
     /// Wall-clock time of the build.
     pub build_time: Duration,
+}
+
+/// The nested grids of one level of the hierarchy, summed
+/// ([`GridStats::levels`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct NestLevel {
+    /// Nested grids at this level.
+    pub grids: u64,
+    /// Their cells.
+    pub cells: u64,
+    /// Their cells holding at least one reference.
+    pub occupied_cells: u64,
+    /// Their references over all cells.
+    pub references: u64,
+    /// References tested on entering a grid instead (a floor or a wall
+    /// spanning most of the parent cell).
+    pub direct_refs: u64,
+    /// The most references in one cell of the level.
+    pub max_refs_per_cell: u32,
 }
 
 impl Default for GridConfig {

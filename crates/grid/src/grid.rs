@@ -323,6 +323,7 @@ impl<P: Primitive> Grid<P> {
             unbounded_prims: grid.unbounded.len() as u64,
             nested_cells: grid.nested.subs.len() as u64,
             nest_levels: grid.nested.levels(),
+            levels: grid.nested.level_stats(),
             nest_min_refs: if grid.nested.subs.is_empty() {
                 0
             } else {

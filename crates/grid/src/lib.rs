@@ -127,8 +127,8 @@ pub use accel::{
     Hit, PrimHit, Primitive, NO_SLOT,
 };
 pub use config::{
-    CellStorage, GridConfig, GridStats, AUTO_DIRECT_MAX, DEFAULT_BUDGET_FACTOR, HIERARCHY_MIN_REFS,
-    MIN_BUDGET,
+    CellStorage, GridConfig, GridStats, NestLevel, AUTO_DIRECT_MAX, DEFAULT_BUDGET_FACTOR,
+    HIERARCHY_MIN_REFS, MIN_BUDGET,
 };
 pub use counters::{Counters, NoCounters, QueryCounters};
 pub use dda::{CellIter, CellVisit};

@@ -50,7 +50,7 @@ use crate::cells::dense_occupancy;
 use crate::cost;
 use crate::geom::{self, Geom};
 use crate::par::map_indices;
-use crate::Primitive;
+use crate::{NestLevel, Primitive};
 use gridrt_bbox::{Aabb, Real};
 use std::borrow::Cow;
 
@@ -417,6 +417,22 @@ impl Nested {
     /// The deepest level (0 without nested grids).
     pub(crate) fn levels(&self) -> u32 {
         self.subs.iter().map(|s| s.depth).max().unwrap_or(0)
+    }
+
+    /// The nested grids summed level by level, level 1 first.
+    pub(crate) fn level_stats(&self) -> Vec<NestLevel> {
+        let mut levels = vec![NestLevel::default(); self.levels() as usize];
+        for s in self.subs.iter() {
+            let l = &mut levels[s.depth as usize - 1];
+            let counts = s.offsets.windows(2).map(|w| w[1] - w[0]);
+            l.grids += 1;
+            l.cells += s.geom.cell_count();
+            l.occupied_cells += counts.clone().filter(|&n| n > 0).count() as u64;
+            l.references += s.refs.len() as u64;
+            l.direct_refs += s.direct.len() as u64;
+            l.max_refs_per_cell = l.max_refs_per_cell.max(counts.max().unwrap_or(0));
+        }
+        levels
     }
 
     /// Checks every nested grid reachable from `children` of a grid with

@@ -281,7 +281,32 @@ fn a_small_cluster_in_a_large_room_gets_a_coarse_top_and_deep_nesting() {
         g.dims(),
         flat.dims()
     );
-    assert!(g.stats().nest_levels >= 2, "{:?}", g.stats());
+    let st = g.stats();
+    assert!(st.nest_levels >= 2, "{st:?}");
+    // The levels add up to the hierarchy, and each deeper level holds the
+    // crowded cells of the one above.
+    assert_eq!(st.levels.len(), st.nest_levels as usize);
+    assert_eq!(
+        st.levels.iter().map(|l| l.grids).sum::<u64>(),
+        st.nested_cells
+    );
+    assert!(flat.stats().levels.is_empty());
+    for (i, l) in st.levels.iter().enumerate() {
+        assert!(l.grids > 0 && l.occupied_cells <= l.cells, "{i}: {l:?}");
+        assert!(l.references >= l.occupied_cells, "{i}: {l:?}");
+        assert!(u64::from(l.max_refs_per_cell) <= l.references, "{i}: {l:?}");
+        if i > 0 {
+            let above = &st.levels[i - 1];
+            assert!(
+                l.grids <= above.occupied_cells,
+                "{i}: {l:?} under {above:?}"
+            );
+            assert!(
+                st.nest_min_refs <= above.max_refs_per_cell,
+                "{i}: {above:?}"
+            );
+        }
+    }
     let auto = [
         GridConfig::default(),
         GridConfig {

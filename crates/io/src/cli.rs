@@ -773,7 +773,7 @@ fn grid_line(g: &GridStats) -> String {
         g.mean_refs_per_occupied,
         g.max_refs_per_cell,
         g.bytes as f64 / (1024.0 * 1024.0)
-    )
+    ) + &cli_stats::level_lines(g)
 }
 
 fn v(p: Vec3) -> String {

@@ -4,7 +4,7 @@
 //! `--stats`.
 
 use crate::cli::Accel;
-use gridrt_grid::{Exhaustive, Grid, GridStats, Primitive, QueryCounters};
+use gridrt_grid::{Exhaustive, Grid, GridStats, NestLevel, Primitive, QueryCounters};
 use gridrt_tracer::{Aov, PixelRect, Renderer};
 use serde::Serialize;
 
@@ -84,8 +84,61 @@ pub(crate) struct GridJson {
     nested_grids: u64,
     nest_levels: u32,
     nest_min_refs: u32,
+    /// The nested grids level by level ([`GridStats::levels`]).
+    levels: Vec<LevelJson>,
     budget: usize,
     bytes: usize,
+}
+
+/// One level of nested grids in `--stats`.
+#[derive(Clone, Debug, Serialize)]
+struct LevelJson {
+    grids: u64,
+    cells: u64,
+    occupied_cells: u64,
+    references: u64,
+    direct_refs: u64,
+    max_refs_per_cell: u32,
+}
+
+impl From<&NestLevel> for LevelJson {
+    fn from(l: &NestLevel) -> Self {
+        Self {
+            grids: l.grids,
+            cells: l.cells,
+            occupied_cells: l.occupied_cells,
+            references: l.references,
+            direct_refs: l.direct_refs,
+            max_refs_per_cell: l.max_refs_per_cell,
+        }
+    }
+}
+
+/// One line per level of nested grids, for the grid line of `info` and
+/// of the render summary: where the references stopped separating (a
+/// level whose cells hold many references each, or whose references
+/// outnumber the level above's many times).
+pub(crate) fn level_lines(g: &GridStats) -> String {
+    let mut t = String::new();
+    for (i, l) in g.levels.iter().enumerate() {
+        let per = l.references as f64 / l.occupied_cells.max(1) as f64;
+        let grids = if l.grids == 1 { "grid" } else { "grids" };
+        let direct = if l.direct_refs > 0 {
+            format!(", {} tested on entry", l.direct_refs)
+        } else {
+            String::new()
+        };
+        t += &format!(
+            "  level {:<4}{} {grids}, {} cells, {} occupied, {} refs ({per:.2} per occupied cell, max {}){direct}\n",
+            i + 1,
+            l.grids,
+            l.cells,
+            l.occupied_cells,
+            l.references,
+            l.max_refs_per_cell,
+        );
+    }
+    t
 }
 
 impl GridJson {
@@ -99,6 +152,7 @@ impl GridJson {
             nested_grids: g.nested_cells,
             nest_levels: g.nest_levels,
             nest_min_refs: g.nest_min_refs,
+            levels: g.levels.iter().map(LevelJson::from).collect(),
             budget: g.budget,
             bytes: g.bytes,
         }
@@ -203,5 +257,27 @@ mod tests {
         assert_eq!(chosen(Accel::Auto, Some(&flat)), "grid");
         assert_eq!(chosen(Accel::Auto, Some(&nested)), "hierarchy");
         assert_eq!(chosen(Accel::Exhaustive, None), "exhaustive");
+    }
+
+    #[test]
+    fn each_level_of_nested_grids_gets_a_line() {
+        assert_eq!(level_lines(&GridStats::default()), "");
+        let level = |grids, direct_refs| NestLevel {
+            grids,
+            cells: 512,
+            occupied_cells: 100,
+            references: 250,
+            direct_refs,
+            max_refs_per_cell: 9,
+        };
+        let g = GridStats {
+            levels: vec![level(1, 14), level(3, 0)],
+            ..GridStats::default()
+        };
+        assert_eq!(
+            level_lines(&g),
+            "  level 1   1 grid, 512 cells, 100 occupied, 250 refs (2.50 per occupied cell, max 9), 14 tested on entry\n\
+             \x20 level 2   3 grids, 512 cells, 100 occupied, 250 refs (2.50 per occupied cell, max 9)\n"
+        );
     }
 }
