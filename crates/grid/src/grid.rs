@@ -307,6 +307,7 @@ impl<P: Primitive> Grid<P> {
             Cells::Dense { offsets } => std::mem::size_of_val(&**offsets),
             Cells::Hashed { table } => table.bytes(),
         };
+        let levels = grid.nested.level_stats();
         grid.stats = GridStats {
             dims: grid.geom.dims,
             cells,
@@ -322,8 +323,8 @@ impl<P: Primitive> Grid<P> {
             table_bytes,
             unbounded_prims: grid.unbounded.len() as u64,
             nested_cells: grid.nested.subs.len() as u64,
-            nest_levels: grid.nested.levels(),
-            levels: grid.nested.level_stats(),
+            nest_levels: levels.len() as u32,
+            levels,
             nest_min_refs: if grid.nested.subs.is_empty() {
                 0
             } else {

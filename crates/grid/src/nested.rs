@@ -414,14 +414,11 @@ impl Nested {
                 .sum::<usize>()
     }
 
-    /// The deepest level (0 without nested grids).
-    pub(crate) fn levels(&self) -> u32 {
-        self.subs.iter().map(|s| s.depth).max().unwrap_or(0)
-    }
-
-    /// The nested grids summed level by level, level 1 first.
+    /// The nested grids summed level by level, level 1 first (as many as
+    /// the deepest grid's depth; none without nested grids).
     pub(crate) fn level_stats(&self) -> Vec<NestLevel> {
-        let mut levels = vec![NestLevel::default(); self.levels() as usize];
+        let deepest = self.subs.iter().map(|s| s.depth).max().unwrap_or(0);
+        let mut levels = vec![NestLevel::default(); deepest as usize];
         for s in self.subs.iter() {
             let l = &mut levels[s.depth as usize - 1];
             let counts = s.offsets.windows(2).map(|w| w[1] - w[0]);
