@@ -7,10 +7,11 @@ use gridrt_bbox::math::Lanes;
 use gridrt_bbox::{Aabb, Real, SlabTest, Vec3};
 
 /// The insertion pad, in units of `Real::EPSILON` times the largest extent
-/// of the (outermost) grid box. It absorbs the rounding that grows with the
-/// distance a ray travels (a primitive's hit `t`, the traversal's plane
-/// crossings), which does not depend on where the scene lies: it covers
-/// rays that start within some tens of scene diameters of the scene.
+/// of the outermost grid box (nested grids narrow it: [`crate::nested`]).
+/// It absorbs the rounding that grows with the distance a ray travels (a
+/// primitive's hit `t`, the traversal's plane crossings), which does not
+/// depend on where the scene lies: by the bound of [`RAY_ULPS`], it covers
+/// rays that start within 8 extents of every point of the box.
 ///
 /// Nothing in the pad follows the coordinates' magnitude: the rounding of
 /// absolute positions is made exact instead: a box's cells are found by
@@ -21,6 +22,52 @@ use gridrt_bbox::{Aabb, Real, SlabTest, Vec3};
 /// with its own plane crossings ([`crate::dda`]), so a scene moved far from
 /// the origin keeps the references it has at the origin.
 pub(crate) const PAD_ULPS: Real = 64.0;
+
+/// The rounding a ray brings to a hit point and to the walk's plane
+/// crossings, in units of `Real::EPSILON` times `D`, the largest
+/// coordinate distance between the ray's origin and the points it meets:
+/// the vertices a primitive test translates to the origin, the planes the
+/// walk crosses. A pad `p` covers the rays with `RAY_ULPS · ε · D <= p`
+/// (for the outermost grid, whose pad is [`PAD_ULPS`] of its extent, the
+/// rays from within 8 extents of every point of its box); the constant
+/// holds the bound's slack.
+pub(crate) const RAY_ULPS: Real = 8.0;
+
+/// The rays a nested grid's pad covers ([`RAY_ULPS`]): those whose origin
+/// lies within `far`, in every coordinate, of every point of `span`, the
+/// box of the grid's references; every ray when the pad is its parent's.
+/// A ray from farther away tests the parent cell's references instead of
+/// walking the nested grid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Reach {
+    lo: Vec3,
+    hi: Vec3,
+    far: Real,
+}
+
+impl Reach {
+    /// The reach of pad `pad` over the box `span`, in a grid of pad
+    /// `parent`: unbounded when `pad` is not narrower, since the nested
+    /// grid then covers every ray its parent does.
+    pub(crate) fn new(span: &Aabb, pad: Real, parent: Real) -> Self {
+        Self {
+            lo: span.min,
+            hi: span.max,
+            far: if pad < parent {
+                pad / (RAY_ULPS * Real::EPSILON)
+            } else {
+                Real::INFINITY
+            },
+        }
+    }
+
+    /// Whether the pad covers a ray from `origin` (never for a NaN origin).
+    #[inline(always)]
+    pub(crate) fn covers(&self, origin: Vec3) -> bool {
+        let d = (origin - self.lo).abs().max((origin - self.hi).abs());
+        d.x <= self.far && d.y <= self.far && d.z <= self.far
+    }
+}
 
 /// Hard ceiling on the cell count whatever `GridConfig::max_cells` says:
 /// dense offsets and cell keys are `u32`.
@@ -122,8 +169,7 @@ impl Geom {
     }
 
     /// The same geometry with the extent part of the insertion pad widened
-    /// to at least `pad`: a nested grid takes its outermost grid's, since
-    /// the rays that reach it travel as far as the whole scene allows.
+    /// to at least `pad` (a nested grid's, [`crate::nested`]).
     pub(crate) fn with_pad(mut self, pad: Real) -> Self {
         self.set_pad(self.pad.max(pad));
         self
@@ -426,6 +472,22 @@ pub(crate) fn gridded(b: &Aabb) -> Option<(Lanes, Lanes)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_reach_covers_origins_within_its_distance_of_every_point() {
+        let span = Aabb::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 2.0, 0.5));
+        let pad = RAY_ULPS * Real::EPSILON * 10.0;
+        let r = Reach::new(&span, pad, 2.0 * pad);
+        // 9.9 from the far corner on x and y, inside on z.
+        assert!(r.covers(Vec3::new(8.9, -7.9, 0.25)));
+        assert!(!r.covers(Vec3::new(9.5, 0.0, 0.0)));
+        assert!(!r.covers(Vec3::new(0.0, 0.0, -9.6)));
+        assert!(!r.covers(Vec3::new(Real::NAN, 0.0, 0.0)));
+        assert!(!r.covers(Vec3::new(0.0, Real::INFINITY, 0.0)));
+        // A pad as wide as the parent's covers every ray the parent does.
+        let all = Reach::new(&span, pad, pad);
+        assert!(all.covers(Vec3::splat(1e30)) && !all.covers(Vec3::splat(Real::NAN)));
+    }
 
     #[test]
     fn lecture_formula_on_a_cube() {

@@ -285,7 +285,6 @@ impl<P: Primitive> Grid<P> {
             m: geom::sanitize_m(config.nest_m.unwrap_or(config.m)),
             budget: budget.saturating_sub(flat_bytes),
             parallel: config.parallel_build,
-            pad: grid.geom.pad,
             slab: config.slab,
             cost,
         };

@@ -37,18 +37,31 @@
 //! contiguous in it and found from the start of the parent cell's run of
 //! references by one popcount.
 //!
+//! **The pad follows the grid**, not the scene. The rounding a pad must
+//! cover grows with the distance from the ray's origin to what it meets
+//! ([`geom::RAY_ULPS`]), so the outermost grid's pad, which covers rays
+//! from anywhere in a scene thousands of times larger than a detailed
+//! object, would be as wide as the object's nested cells and put each
+//! primitive in the cells around its own. A nested grid's pad is a
+//! sixteenth of its cells' width ([`PAD_CELLS`]), but no more than its
+//! parent's, no less than an eighth of it ([`PAD_STEP`]), and no less
+//! than the outermost rule applied to its references' own box. A grid
+//! with its parent's pad covers every ray its parent does; a narrower pad
+//! covers the rays from within its [`Reach`], and a ray from farther away
+//! tests the parent cell's references instead of walking it: exact either
+//! way, and since each level's reach is at least an eighth of its
+//! parent's, a far ray gives up one level at a time.
+//!
 //! **Correctness** is the outer grid's argument one level down. A nested
 //! grid spans every point of its cell that lies in one of its references'
-//! padded boxes, so every hit inside the cell; its insertion pad has the
-//! outermost grid's extent part (the rays that reach it travel as far as
-//! the scene allows) and its own coordinate part; every reference is in
-//! every nested cell its padded box overlaps; and the nested walk stops
-//! under the outer walk's rule. So it finds the nearest hit inside the
-//! cell, ties included.
+//! padded boxes, so every hit inside the cell; its pad covers the rays
+//! that walk it; every reference is in every nested cell its padded box
+//! overlaps; and the nested walk stops under the outer walk's rule. So it
+//! finds the nearest hit inside the cell, ties included.
 
 use crate::cells::dense_occupancy;
 use crate::cost;
-use crate::geom::{self, Geom};
+use crate::geom::{self, Geom, Reach, PAD_ULPS};
 use crate::par::map_indices;
 use crate::{NestLevel, Primitive};
 use gridrt_bbox::{Aabb, Real};
@@ -70,6 +83,12 @@ pub(crate) const PROGRESS: f64 = 0.5;
 /// over a large cell, left in one of its cells (the references did not
 /// separate, but the space around them shrank).
 pub(crate) const SHRINK: f64 = 0.25;
+
+/// A nested grid's pad, as a fraction of its narrowest cell width.
+pub(crate) const PAD_CELLS: Real = 1.0 / 16.0;
+
+/// A nested grid's pad is at least its parent's divided by this.
+pub(crate) const PAD_STEP: Real = 8.0;
 
 /// A nested grid is built only if its occupied cells hold on average at
 /// most this fraction of the parent cell's references.
@@ -97,8 +116,6 @@ pub(crate) struct NestParams {
     /// Bytes the nested grids may take in all.
     pub budget: usize,
     pub parallel: bool,
-    /// The outermost grid's extent part of the insertion pad.
-    pub pad: Real,
     /// The slab test of the walk's entry ([`crate::GridConfig::slab`]).
     pub slab: gridrt_bbox::SlabTest,
     /// Build a nested grid only where the cost model expects it to pay
@@ -113,6 +130,8 @@ pub(crate) struct Sub {
     /// the walk finds the nested grid by.
     pub start: u32,
     pub geom: Geom,
+    /// The rays its pad covers.
+    pub reach: Reach,
     /// `offsets[c]..offsets[c + 1]` are nested cell `c`'s references
     /// (row-major), indices of the outer grid's primitives.
     pub offsets: Box<[u32]>,
@@ -230,6 +249,7 @@ struct Candidate {
 /// offsets and each reference's cell range.
 struct Plan {
     geom: Geom,
+    reach: Reach,
     offsets: Vec<u32>,
     /// The references in the nested grid, each with its cell range.
     ranges: Vec<(u32, CellRange)>,
@@ -435,9 +455,9 @@ impl Nested {
     /// Checks every nested grid reachable from `children` of a grid with
     /// geometry `g` and references `refs` (cells given as `(index, start,
     /// references)`): each over what its references cover of the cell,
-    /// with the outermost pad, exactly the cell's references in every
-    /// nested cell their padded box overlaps, and its own children in
-    /// turn. Returns how many nested grids it reached.
+    /// with the pad and reach of [`pad_of`], exactly the cell's references
+    /// in every nested cell their padded box overlaps, and its own
+    /// children in turn. Returns how many nested grids it reached.
     pub(crate) fn check<P: Primitive>(
         &self,
         prims: &[P],
@@ -445,7 +465,6 @@ impl Nested {
         g: &Geom,
         children: &Children,
         cells: Vec<([u32; 3], u32, &[u32])>,
-        pad: Real,
     ) -> Result<usize, String> {
         let mut reached = 0;
         for (idx, start, refs) in cells {
@@ -464,8 +483,15 @@ impl Nested {
             if direct[..] != sub.direct[..] {
                 return Err(format!("cell {idx:?}: wrong references tested directly"));
             }
-            if sg.bounds != cover(g, idx, boxes.iter().copied()) || sg.pad < pad {
+            if sg.bounds != cover(g, idx, boxes.iter().copied()) {
                 return Err(format!("cell {idx:?}: nested grid not over the cell"));
+            }
+            let span = boxes.iter().fold(sg.bounds, |s, b| s.union(*b));
+            let pad = pad_of(g.pad, &sg.bounds, sg.dims, &span);
+            if sg.pad != Geom::new(sg.bounds, sg.dims).with_pad(pad).pad
+                || sub.reach != Reach::new(&span, sg.pad, g.pad)
+            {
+                return Err(format!("cell {idx:?}: nested pad or reach wrong"));
             }
             let count = sg.cell_count() as usize;
             let o = &sub.offsets;
@@ -499,7 +525,7 @@ impl Nested {
             if want != got {
                 return Err(format!("cell {idx:?}: nested references differ"));
             }
-            reached += 1 + self.check(prims, shared, sg, &sub.children, own, pad)?;
+            reached += 1 + self.check(prims, shared, sg, &sub.children, own)?;
         }
         Ok(reached)
     }
@@ -573,8 +599,10 @@ fn plan<P: Primitive>(
     if dims == [1, 1, 1] {
         return None;
     }
-    let mut geom = Geom::new(cell, dims).with_pad(p.pad);
+    let span = boxes.iter().fold(cell, |s, b| s.union(*b));
+    let mut geom = Geom::new(cell, dims).with_pad(pad_of(g.pad, &cell, dims, &span));
     geom.slab = p.slab;
+    let reach = Reach::new(&span, geom.pad, g.pad);
     let count = geom.cell_count() as usize;
     // Whether a grid holding `total` references pays, by the estimate.
     let pays = |total: u64| {
@@ -632,10 +660,26 @@ fn plan<P: Primitive>(
     }
     Some(Plan {
         geom,
+        reach,
         offsets,
         ranges,
         direct,
     })
+}
+
+/// The pad of a nested grid over `bounds` with `dims` cells, in a grid of
+/// pad `parent`, whose references' boxes span `span` (the module's notes).
+fn pad_of(parent: Real, bounds: &Aabb, dims: [u32; 3], span: &Aabb) -> Real {
+    let ext = bounds.extent();
+    let cell = (0..3)
+        .filter(|&a| dims[a] > 1)
+        .map(|a| ext[a] / dims[a] as Real)
+        .fold(Real::INFINITY, Real::min);
+    let own = PAD_ULPS * Real::EPSILON * span.extent().max_element();
+    (PAD_CELLS * cell)
+        .max(parent / PAD_STEP)
+        .min(parent)
+        .max(own)
 }
 
 /// Fills a planned nested grid (its references in order).
@@ -652,6 +696,7 @@ fn fill(plan: &Plan, start: u32, depth: u32) -> Sub {
     Sub {
         start,
         geom: plan.geom.clone(),
+        reach: plan.reach,
         occ: dense_occupancy(&plan.offsets),
         offsets: plan.offsets.clone().into_boxed_slice(),
         refs: out.into_boxed_slice(),

@@ -511,3 +511,94 @@ fn a_larger_budget_never_nests_fewer_cells() {
     }
     assert!(last > 0);
 }
+
+/// A wavy sheet of 60×60 quads, `size` wide, centred at the origin, in a
+/// 2,000-unit room: a floor under it and two walls.
+fn sheet_in_a_room(size: Real) -> Vec<Triangle> {
+    let centre = Vec3::new(0.5, 0.0, 0.5);
+    let mut scene: Vec<Triangle> = wavy_sheet(60)
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.vertices().map(|v| (v - centre) * size);
+            Triangle::new(a, b, c)
+        })
+        .collect();
+    let r = 1000.0;
+    let y = -size;
+    scene.push(Triangle::new(
+        Vec3::new(-r, y, -r),
+        Vec3::new(r, y, -r),
+        Vec3::new(0.0, y, r),
+    ));
+    scene.push(Triangle::new(
+        Vec3::new(-r, -r, -r),
+        Vec3::new(r, -r, -r),
+        Vec3::new(0.0, r, -r),
+    ));
+    scene.push(Triangle::new(
+        Vec3::new(-r, -r, -r),
+        Vec3::new(-r, r, -r),
+        Vec3::new(-r, 0.0, r),
+    ));
+    scene
+}
+
+/// Rays at points of the sheet of [`sheet_in_a_room`], from `away` times
+/// its size.
+fn rays_at_the_sheet(size: Real, away: Real) -> Vec<Ray> {
+    (0..400)
+        .map(|i| {
+            let a = i as Real * 0.37;
+            let to = Vec3::new(a.sin() * 0.45, 0.0, (1.3 * a).cos() * 0.45) * size;
+            let from = to + Vec3::new(0.3, 1.0, 0.6).normalize() * (away * size);
+            Ray::new(from, to - from)
+        })
+        .collect()
+}
+
+/// The teapot in a stadium at any scale: a nested grid's pad follows its
+/// own cells, not the room, so an object 0.5 units wide in a 2,000-unit
+/// room is nested about as well as one 20 units wide (with the room's pad,
+/// 0.015 in f32, the small one's nested cells would each hold their
+/// neighbours' triangles too, and rays test some 14 times as many). Rays
+/// from near it, from across the room and from farther than the nested
+/// grids' reach (they test their parent cells' references instead) get
+/// the exhaustive answers.
+#[test]
+fn a_small_object_in_a_large_room_nests_alike_at_any_scale() {
+    use gridrt_grid::QueryCounters;
+    let tests_per_ray = |size: Real| {
+        let g = Grid::build(sheet_in_a_room(size), &GridConfig::default());
+        g.check_invariants().expect("a valid grid");
+        let mut scratch = gridrt_grid::Accelerator::scratch(&g);
+        let mut c = QueryCounters::default();
+        for ray in rays_at_the_sheet(size, 3.0) {
+            g.closest_hit_counted(&ray, 0.0, Real::INFINITY, &mut scratch, &mut c);
+        }
+        c.tests_per_ray()
+    };
+    let (small, large) = (tests_per_ray(0.5), tests_per_ray(20.0));
+    assert!(
+        small <= 2.0 * large,
+        "{small} tests per ray against {large}"
+    );
+
+    let size = 0.5;
+    let configs = [
+        GridConfig::default(),
+        GridConfig {
+            mailbox: true,
+            ..GridConfig::default()
+        },
+        GridConfig {
+            nest_min_refs: 2,
+            ..GridConfig::default()
+        },
+    ];
+    let checker = Checker::new(sheet_in_a_room(size), &configs);
+    for away in [3.0, 2e3, 2e4] {
+        for ray in rays_at_the_sheet(size, away) {
+            checker.check(&ray, 0.0, Real::INFINITY);
+        }
+    }
+}

@@ -222,7 +222,6 @@ impl<P: Primitive> Grid<P> {
             &self.geom,
             &self.nested.root,
             all,
-            self.geom.pad,
         )?;
         if reached != self.nested.subs.len() {
             return Err(format!(

@@ -106,9 +106,13 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
     }
 
     /// Walks the nested grid of a crowded cell instead of testing the
-    /// cell's references one by one: the same query, one level down.
+    /// cell's references one by one: the same query, one level down. A ray
+    /// from beyond the nested grid's reach tests them one by one.
     #[inline(never)]
-    fn walk_sub(&mut self, sub: &Sub) {
+    fn walk_sub(&mut self, sub: &Sub, refs: &[u32]) {
+        if !sub.reach.covers(self.ray.origin) {
+            return self.test_refs(refs);
+        }
         sub.prefetch();
         if !sub.direct.is_empty() {
             self.test_refs(&sub.direct);
@@ -150,7 +154,7 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for Closest<'_, P
         if let Some(i) = self.children.find(refs.len(), run_start(self.refs, refs)) {
             // SAFETY: `Children::find` returns arena indices of `subs`
             // (checked by `check_invariants`).
-            self.walk_sub(unsafe { self.subs.get_unchecked(i) });
+            self.walk_sub(unsafe { self.subs.get_unchecked(i) }, refs);
         } else {
             self.test_refs(refs);
         }
@@ -223,7 +227,7 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for AnyHit<'_, P,
         }
         if let Some(i) = self.children.find(refs.len(), run_start(self.refs, refs)) {
             // SAFETY: as in the closest-hit query.
-            return self.walk_sub(unsafe { self.subs.get_unchecked(i) });
+            return self.walk_sub(unsafe { self.subs.get_unchecked(i) }, refs);
         }
         self.test_refs(refs)
     }
@@ -272,9 +276,13 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
 impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
     /// Walks the nested grid of a crowded cell: only the references in the
     /// nested cells along the ray are tested. An occluder whose hit lies
-    /// outside this cell is found in the cell that holds the hit.
+    /// outside this cell is found in the cell that holds the hit. A ray
+    /// from beyond the nested grid's reach tests the cell's `refs`.
     #[inline(never)]
-    fn walk_sub(&mut self, sub: &Sub) -> ControlFlow<()> {
+    fn walk_sub(&mut self, sub: &Sub, refs: &[u32]) -> ControlFlow<()> {
+        if !sub.reach.covers(self.ray.origin) {
+            return self.test_refs(refs);
+        }
         sub.prefetch();
         self.test_refs(&sub.direct)?;
         let Some(dda) = Dda::new(&sub.geom, self.ray, self.t_min, self.t_max) else {
