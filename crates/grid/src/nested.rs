@@ -44,13 +44,17 @@
 //! object, would be as wide as the object's nested cells and put each
 //! primitive in the cells around its own. A nested grid's pad is a
 //! sixteenth of its cells' width ([`PAD_CELLS`]), but no more than its
-//! parent's, no less than an eighth of it ([`PAD_STEP`]), and no less
-//! than the outermost rule applied to its references' own box. A grid
-//! with its parent's pad covers every ray its parent does; a narrower pad
-//! covers the rays from within its [`Reach`], and a ray from farther away
-//! tests the parent cell's references instead of walking it: exact either
-//! way, and since each level's reach is at least an eighth of its
-//! parent's, a far ray gives up one level at a time.
+//! parent's, no less than an eighth of it ([`PAD_STEP`]; a quarter in a
+//! cell of more than [`CHEAP_REFS`] references), and no less than the
+//! outermost rule applied to its references' own box. A grid with its
+//! parent's pad covers every ray its parent does; a narrower pad covers
+//! the rays from within its [`Reach`], and a ray from farther away tests
+//! the parent cell's references instead of walking it: exact either way,
+//! and since each level reaches at least an eighth as far as its parent
+//! (a quarter where giving up costs more), a far ray gives up one level
+//! at a time. Only rays from beyond a few scene extents, such as a
+//! telephoto view of a small object from far outside the scene, reach
+//! past a first-level grid and test its whole cell.
 //!
 //! **Correctness** is the outer grid's argument one level down. A nested
 //! grid spans every point of its cell that lies in one of its references'
@@ -87,8 +91,16 @@ pub(crate) const SHRINK: f64 = 0.25;
 /// A nested grid's pad, as a fraction of its narrowest cell width.
 pub(crate) const PAD_CELLS: Real = 1.0 / 16.0;
 
-/// A nested grid's pad is at least its parent's divided by this.
+/// A nested grid's pad is at least its parent's divided by this ...
 pub(crate) const PAD_STEP: Real = 8.0;
+
+/// ... when its cell holds at most this many references (what a ray from
+/// beyond the nested grid's reach tests instead of walking it) ...
+pub(crate) const CHEAP_REFS: usize = 512;
+
+/// ... and divided by this in a more crowded cell, which such a ray would
+/// find costlier to test.
+pub(crate) const PAD_STEP_CROWDED: Real = 4.0;
 
 /// A nested grid is built only if its occupied cells hold on average at
 /// most this fraction of the parent cell's references.
@@ -487,7 +499,7 @@ impl Nested {
                 return Err(format!("cell {idx:?}: nested grid not over the cell"));
             }
             let span = boxes.iter().fold(sg.bounds, |s, b| s.union(*b));
-            let pad = pad_of(g.pad, &sg.bounds, sg.dims, &span);
+            let pad = pad_of(g.pad, refs.len(), &sg.bounds, sg.dims, &span);
             if sg.pad != Geom::new(sg.bounds, sg.dims).with_pad(pad).pad
                 || sub.reach != Reach::new(&span, sg.pad, g.pad)
             {
@@ -600,7 +612,7 @@ fn plan<P: Primitive>(
         return None;
     }
     let span = boxes.iter().fold(cell, |s, b| s.union(*b));
-    let mut geom = Geom::new(cell, dims).with_pad(pad_of(g.pad, &cell, dims, &span));
+    let mut geom = Geom::new(cell, dims).with_pad(pad_of(g.pad, refs.len(), &cell, dims, &span));
     geom.slab = p.slab;
     let reach = Reach::new(&span, geom.pad, g.pad);
     let count = geom.cell_count() as usize;
@@ -667,19 +679,22 @@ fn plan<P: Primitive>(
     })
 }
 
-/// The pad of a nested grid over `bounds` with `dims` cells, in a grid of
-/// pad `parent`, whose references' boxes span `span` (the module's notes).
-fn pad_of(parent: Real, bounds: &Aabb, dims: [u32; 3], span: &Aabb) -> Real {
+/// The pad of a nested grid over `bounds` with `dims` cells, in a cell of
+/// `cell_refs` references of a grid of pad `parent`, whose references'
+/// boxes span `span` (the module's notes).
+fn pad_of(parent: Real, cell_refs: usize, bounds: &Aabb, dims: [u32; 3], span: &Aabb) -> Real {
+    let step = if cell_refs <= CHEAP_REFS {
+        PAD_STEP
+    } else {
+        PAD_STEP_CROWDED
+    };
     let ext = bounds.extent();
     let cell = (0..3)
         .filter(|&a| dims[a] > 1)
         .map(|a| ext[a] / dims[a] as Real)
         .fold(Real::INFINITY, Real::min);
     let own = PAD_ULPS * Real::EPSILON * span.extent().max_element();
-    (PAD_CELLS * cell)
-        .max(parent / PAD_STEP)
-        .min(parent)
-        .max(own)
+    (PAD_CELLS * cell).max(parent / step).min(parent).max(own)
 }
 
 /// Fills a planned nested grid (its references in order).
