@@ -498,11 +498,8 @@ impl Nested {
             if sg.bounds != cover(g, idx, boxes.iter().copied()) {
                 return Err(format!("cell {idx:?}: nested grid not over the cell"));
             }
-            let span = boxes.iter().fold(sg.bounds, |s, b| s.union(*b));
-            let pad = pad_of(g.pad, refs.len(), &sg.bounds, sg.dims, &span);
-            if sg.pad != Geom::new(sg.bounds, sg.dims).with_pad(pad).pad
-                || sub.reach != Reach::new(&span, sg.pad, g.pad)
-            {
+            let (want, reach) = padded(g, refs.len(), sg.bounds, sg.dims, &boxes);
+            if sg.pad != want.pad || sub.reach != reach {
                 return Err(format!("cell {idx:?}: nested pad or reach wrong"));
             }
             let count = sg.cell_count() as usize;
@@ -611,10 +608,8 @@ fn plan<P: Primitive>(
     if dims == [1, 1, 1] {
         return None;
     }
-    let span = boxes.iter().fold(cell, |s, b| s.union(*b));
-    let mut geom = Geom::new(cell, dims).with_pad(pad_of(g.pad, refs.len(), &cell, dims, &span));
+    let (mut geom, reach) = padded(g, refs.len(), cell, dims, &boxes);
     geom.slab = p.slab;
-    let reach = Reach::new(&span, geom.pad, g.pad);
     let count = geom.cell_count() as usize;
     // Whether a grid holding `total` references pays, by the estimate.
     let pays = |total: u64| {
@@ -677,6 +672,16 @@ fn plan<P: Primitive>(
         ranges,
         direct,
     })
+}
+
+/// The geometry of the nested grid over `cell` with `dims` cells, in a
+/// cell of `cell_refs` references of grid `g`, whose references' boxes are
+/// `boxes`: its pad ([`pad_of`]) and the reach of that pad.
+fn padded(g: &Geom, cell_refs: usize, cell: Aabb, dims: [u32; 3], boxes: &[Aabb]) -> (Geom, Reach) {
+    let span = boxes.iter().fold(cell, |s, b| s.union(*b));
+    let geom = Geom::new(cell, dims).with_pad(pad_of(g.pad, cell_refs, &cell, dims, &span));
+    let reach = Reach::new(&span, geom.pad, g.pad);
+    (geom, reach)
 }
 
 /// The pad of a nested grid over `bounds` with `dims` cells, in a cell of
