@@ -61,6 +61,11 @@ impl Reach {
         }
     }
 
+    /// Whether the pad covers every ray its parent's does.
+    pub(crate) fn is_unbounded(&self) -> bool {
+        self.far == Real::INFINITY
+    }
+
     /// Whether the pad covers a ray from `origin` (never for a NaN origin).
     #[inline(always)]
     pub(crate) fn covers(&self, origin: Vec3) -> bool {

@@ -43,18 +43,19 @@
 //! from anywhere in a scene thousands of times larger than a detailed
 //! object, would be as wide as the object's nested cells and put each
 //! primitive in the cells around its own. A nested grid's pad is a
-//! sixteenth of its cells' width ([`PAD_CELLS`]), but no more than its
-//! parent's, no less than an eighth of it ([`PAD_STEP`]; a quarter in a
-//! cell of more than [`CHEAP_REFS`] references), and no less than the
-//! outermost rule applied to its references' own box. A grid with its
-//! parent's pad covers every ray its parent does; a narrower pad covers
-//! the rays from within its [`Reach`], and a ray from farther away tests
-//! the parent cell's references instead of walking it: exact either way,
-//! and since each level reaches at least an eighth as far as its parent
-//! (a quarter where giving up costs more), a far ray gives up one level
-//! at a time. Only rays from beyond a few scene extents, such as a
-//! telephoto view of a small object from far outside the scene, reach
-//! past a first-level grid and test its whole cell.
+//! sixteenth of its cells' width ([`PAD_CELLS`]), but no less than an
+//! eighth of its parent's ([`PAD_STEP`]; a quarter in a cell of more than
+//! [`CHEAP_REFS`] references), no less than the outermost rule applied to
+//! its references' own box, and the parent's own when it would be more
+//! than half of it ([`PAD_SNAP`]). A grid with its parent's pad covers
+//! every ray its parent does; a narrower pad covers the rays from within
+//! its [`Reach`]. A ray from farther away tests the parent cell's
+//! references instead of walking it, or, in a cell of more than
+//! [`CHEAP_REFS`] references, walks the cell's wide grid ([`Sub::wide`]):
+//! the same references, with the parent's pad, in cells at least
+//! [`WIDE_CELL_PADS`] pads wide. Exact either way; so a telephoto view of
+//! a small object from far outside the scene walks coarse cells instead of
+//! testing the whole object.
 //!
 //! **Correctness** is the outer grid's argument one level down. A nested
 //! grid spans every point of its cell that lies in one of its references'
@@ -101,6 +102,17 @@ pub(crate) const CHEAP_REFS: usize = 512;
 /// ... and divided by this in a more crowded cell, which such a ray would
 /// find costlier to test.
 pub(crate) const PAD_STEP_CROWDED: Real = 4.0;
+
+/// A pad within this factor of the parent's is the parent's: the grid
+/// then covers every ray its parent does, at the cost of a slightly wider
+/// pad, where a slightly narrower one would leave far rays a wide grid
+/// nearly as large as itself.
+pub(crate) const PAD_SNAP: Real = 2.0;
+
+/// A crowded cell whose nested grid's pad is narrower than its parent's
+/// also gets a wide grid, with the parent's pad and cells at least this
+/// many pads wide, for the rays from beyond the nested grid's reach.
+pub(crate) const WIDE_CELL_PADS: Real = 4.0;
 
 /// A nested grid is built only if its occupied cells hold on average at
 /// most this fraction of the parent cell's references.
@@ -158,6 +170,41 @@ pub(crate) struct Sub {
     pub children: Children,
     /// 1 for a grid nested in the flat grid's cell, 2 one level down, …
     pub depth: u32,
+    /// The same references in coarser cells with the parent's pad, for
+    /// the rays beyond `reach` (none where the cell holds at most
+    /// [`CHEAP_REFS`] references, which such a ray tests instead, or the
+    /// pad is the parent's); it has neither children nor a wide grid.
+    pub wide: Option<Box<Sub>>,
+}
+
+impl Sub {
+    /// The grid a ray walks in this one's cell: this one if its pad covers
+    /// the ray, else the wide grid if there is one.
+    #[inline(always)]
+    pub(crate) fn for_ray(&self, ray: &gridrt_bbox::Ray) -> Option<&Sub> {
+        if self.reach.covers(ray.origin) {
+            Some(self)
+        } else {
+            self.wide.as_deref()
+        }
+    }
+
+    /// Heap bytes of this grid and of its wide grid.
+    fn bytes(&self) -> usize {
+        std::mem::size_of::<Sub>()
+            + std::mem::size_of_val(&*self.offsets)
+            + std::mem::size_of_val(&*self.refs)
+            + std::mem::size_of_val(&*self.direct)
+            + std::mem::size_of_val(&*self.occ)
+            + self.children.bytes()
+            + self
+                .geom
+                .planes
+                .iter()
+                .map(|p| 2 * std::mem::size_of_val(&**p))
+                .sum::<usize>()
+            + self.wide.as_ref().map_or(0, |w| w.bytes())
+    }
 }
 
 /// Which cells of one grid (the flat grid or a nested one) have a nested
@@ -221,6 +268,11 @@ impl Children {
         Some(self.base as usize + self.rank[w] as usize + below.count_ones() as usize - 1)
     }
 
+    /// Whether no cell has a nested grid.
+    pub(crate) fn is_empty(&self) -> bool {
+        self.starts.is_empty()
+    }
+
     /// Heap bytes of a map over `refs` references.
     fn bytes_for(refs: usize) -> usize {
         refs.div_ceil(64) * (8 + 4)
@@ -244,6 +296,13 @@ pub(crate) struct Nested {
 /// An inclusive range of cells per axis, as [`Geom::cell_range`] gives it.
 type CellRange = ([u32; 3], [u32; 3]);
 
+/// Cells of a grid as `(index, start, references)`: where each one's run
+/// of references starts, and the run.
+type CellRuns<'r> = Vec<([u32; 3], u32, &'r [u32])>;
+
+/// A nested grid's offsets per cell and its references' cell ranges.
+type Layout = (Vec<u32>, Vec<(u32, CellRange)>);
+
 /// A crowded cell waiting for its nested grid.
 struct Candidate {
     /// The arena index of the grid holding the cell (`None`: the flat grid).
@@ -266,6 +325,8 @@ struct Plan {
     /// The references in the nested grid, each with its cell range.
     ranges: Vec<(u32, CellRange)>,
     direct: Vec<u32>,
+    /// The plan of its wide grid ([`Sub::wide`]).
+    wide: Option<Box<Plan>>,
 }
 
 impl Plan {
@@ -285,6 +346,7 @@ impl Plan {
                 .map(|p| 2 * std::mem::size_of_val(&**p))
                 .sum::<usize>()
             + Children::bytes_for(refs)
+            + self.wide.as_ref().map_or(0, |w| w.bytes())
     }
 }
 
@@ -426,24 +488,7 @@ impl Nested {
 
     /// Heap bytes of all nested grids and their maps.
     pub(crate) fn bytes(&self) -> usize {
-        self.root.bytes()
-            + self
-                .subs
-                .iter()
-                .map(|s| {
-                    std::mem::size_of::<Sub>()
-                        + std::mem::size_of_val(&*s.offsets)
-                        + std::mem::size_of_val(&*s.refs)
-                        + std::mem::size_of_val(&*s.direct)
-                        + std::mem::size_of_val(&*s.occ)
-                        + s.children.bytes()
-                        + s.geom
-                            .planes
-                            .iter()
-                            .map(|p| 2 * std::mem::size_of_val(&**p))
-                            .sum::<usize>()
-                })
-                .sum::<usize>()
+        self.root.bytes() + self.subs.iter().map(Sub::bytes).sum::<usize>()
     }
 
     /// The nested grids summed level by level, level 1 first (as many as
@@ -460,6 +505,10 @@ impl Nested {
             l.references += s.refs.len() as u64;
             l.direct_refs += s.direct.len() as u64;
             l.max_refs_per_cell = l.max_refs_per_cell.max(counts.max().unwrap_or(0));
+            if let Some(w) = &s.wide {
+                l.wide_grids += 1;
+                l.wide_references += w.refs.len() as u64;
+            }
         }
         levels
     }
@@ -476,7 +525,7 @@ impl Nested {
         shared: &P::Shared,
         g: &Geom,
         children: &Children,
-        cells: Vec<([u32; 3], u32, &[u32])>,
+        cells: CellRuns<'_>,
     ) -> Result<usize, String> {
         let mut reached = 0;
         for (idx, start, refs) in cells {
@@ -502,42 +551,71 @@ impl Nested {
             if sg.pad != want.pad || sub.reach != reach {
                 return Err(format!("cell {idx:?}: nested pad or reach wrong"));
             }
-            let count = sg.cell_count() as usize;
-            let o = &sub.offsets;
-            if o.len() != count + 1
-                || o[0] != 0
-                || o[count] as usize != sub.refs.len()
-                || o.windows(2).any(|w| w[0] > w[1])
-            {
-                return Err(format!("cell {idx:?}: nested offsets malformed"));
-            }
-            let mut want = Vec::new();
-            for &p in inner.iter() {
-                let range = sg.cell_range(&prims[p as usize].bounds(shared));
-                sg.for_each_cell(range, |c| want.push((c, p)));
-            }
-            let mut got = Vec::new();
-            let mut own = Vec::new();
-            for c in 0..count {
-                let run = &sub.refs[o[c] as usize..o[c + 1] as usize];
-                got.extend(run.iter().map(|&p| (c, p)));
-                let occupied = sub.occ[c >> 6] >> (c & 63) & 1 != 0;
-                if occupied == run.is_empty() {
-                    return Err(format!("cell {idx:?}: nested occupancy bit {c} wrong"));
+            let own = check_cells(prims, shared, idx, sub, &inner)?;
+            if let Some(w) = &sub.wide {
+                let want = wide_geom(g, refs.len(), sg, &sub.reach);
+                let same = want.is_some_and(|want| {
+                    (want.bounds, want.dims, want.pad) == (w.geom.bounds, w.geom.dims, w.geom.pad)
+                });
+                if !same || w.reach != Reach::new(&sg.bounds, g.pad, g.pad) {
+                    return Err(format!("cell {idx:?}: wide grid's box, cells or pad wrong"));
                 }
-                if !run.is_empty() {
-                    own.push((sg.index_of(c), o[c], run));
+                if w.direct != sub.direct || w.wide.is_some() || !w.children.is_empty() {
+                    return Err(format!("cell {idx:?}: wide grid not like its nested grid"));
                 }
-            }
-            want.sort_unstable();
-            got.sort_unstable();
-            if want != got {
-                return Err(format!("cell {idx:?}: nested references differ"));
+                check_cells(prims, shared, idx, w, &inner)?;
             }
             reached += 1 + self.check(prims, shared, sg, &sub.children, own)?;
         }
         Ok(reached)
     }
+}
+
+/// Checks that nested grid `sub` of cell `idx` holds exactly the
+/// references `inner` in every cell their box overlaps, with its offsets
+/// and occupancy bits in order; returns its occupied cells as `(index,
+/// start, references)`.
+fn check_cells<'s, P: Primitive>(
+    prims: &[P],
+    shared: &P::Shared,
+    idx: [u32; 3],
+    sub: &'s Sub,
+    inner: &[u32],
+) -> Result<CellRuns<'s>, String> {
+    let sg = &sub.geom;
+    let count = sg.cell_count() as usize;
+    let o = &sub.offsets;
+    if o.len() != count + 1
+        || o[0] != 0
+        || o[count] as usize != sub.refs.len()
+        || o.windows(2).any(|w| w[0] > w[1])
+    {
+        return Err(format!("cell {idx:?}: nested offsets malformed"));
+    }
+    let mut want = Vec::new();
+    for &p in inner {
+        let range = sg.cell_range(&prims[p as usize].bounds(shared));
+        sg.for_each_cell(range, |c| want.push((c, p)));
+    }
+    let mut got = Vec::new();
+    let mut own = Vec::new();
+    for c in 0..count {
+        let run = &sub.refs[o[c] as usize..o[c + 1] as usize];
+        got.extend(run.iter().map(|&p| (c, p)));
+        let occupied = sub.occ[c >> 6] >> (c & 63) & 1 != 0;
+        if occupied == run.is_empty() {
+            return Err(format!("cell {idx:?}: nested occupancy bit {c} wrong"));
+        }
+        if !run.is_empty() {
+            own.push((sg.index_of(c), o[c], run));
+        }
+    }
+    want.sort_unstable();
+    got.sort_unstable();
+    if want != got {
+        return Err(format!("cell {idx:?}: nested references differ"));
+    }
+    Ok(own)
 }
 
 /// Splits the references `refs` of cell `idx` of grid `g` into those that
@@ -610,7 +688,6 @@ fn plan<P: Primitive>(
     }
     let (mut geom, reach) = padded(g, refs.len(), cell, dims, &boxes);
     geom.slab = p.slab;
-    let count = geom.cell_count() as usize;
     // Whether a grid holding `total` references pays, by the estimate.
     let pays = |total: u64| {
         !p.cost
@@ -619,9 +696,44 @@ fn plan<P: Primitive>(
                 cost::nested(&parent, &geom, total, direct.len()),
             )
     };
+    let (offsets, ranges) = layout(&geom, &inner, &boxes, refs.len(), pays)?;
+    let wide = wide_geom(g, refs.len(), &geom, &reach).and_then(|mut wide| {
+        wide.slab = p.slab;
+        let (offsets, ranges) = layout(&wide, &inner, &boxes, refs.len(), |_| true)?;
+        Some(Box::new(Plan {
+            reach: Reach::new(&wide.bounds, wide.pad, g.pad),
+            geom: wide,
+            offsets,
+            ranges,
+            direct: direct.clone(),
+            wide: None,
+        }))
+    });
+    Some(Plan {
+        geom,
+        reach,
+        offsets,
+        ranges,
+        direct,
+        wide,
+    })
+}
+
+/// Where the references `inner` (boxes `boxes`) of a cell of `cell_refs`
+/// references fall in `geom`: the offsets of its cells and each
+/// reference's cell range; `None` when the grid would not separate them
+/// or, by `pays`, would not pay for the references it holds.
+fn layout(
+    geom: &Geom,
+    inner: &[u32],
+    boxes: &[Aabb],
+    cell_refs: usize,
+    pays: impl Fn(u64) -> bool,
+) -> Option<Layout> {
+    let count = geom.cell_count() as usize;
     // Whether `total` references in `occupied` cells are separated enough.
     let separates = |total: u64, occupied: usize| {
-        total as f64 <= SEPARATION * refs.len() as f64 * occupied as f64
+        total as f64 <= SEPARATION * cell_refs as f64 * occupied as f64
     };
     // Each reference lies in a cell at least, and the estimate grows with
     // the references: with one each it bounds the plan's from below, and
@@ -631,7 +743,7 @@ fn plan<P: Primitive>(
     }
     let ranges: Vec<(u32, CellRange)> = inner
         .iter()
-        .zip(&boxes)
+        .zip(boxes)
         .map(|(&r, b)| (r, geom.cell_range(b)))
         .collect();
     // The references the grid would hold, from the ranges alone: the tests
@@ -653,7 +765,7 @@ fn plan<P: Primitive>(
     }
     // The unseparated core: a ray that crossed two cells holding more than
     // half of the references each would test more than the cell holds.
-    let heavy = PROGRESS * refs.len() as f64;
+    let heavy = PROGRESS * cell_refs as f64;
     if offsets[1..]
         .iter()
         .filter(|&&n| f64::from(n) > heavy)
@@ -665,13 +777,26 @@ fn plan<P: Primitive>(
     for c in 0..count {
         offsets[c + 1] += offsets[c];
     }
-    Some(Plan {
-        geom,
-        reach,
-        offsets,
-        ranges,
-        direct,
-    })
+    Some((offsets, ranges))
+}
+
+/// The geometry of the wide grid ([`Sub::wide`]) beside the nested grid
+/// `narrow` with reach `reach`, in a cell of `cell_refs` references of
+/// grid `g`: over the same box with `g`'s pad, in no more cells per axis
+/// than the nested grid and cells at least [`WIDE_CELL_PADS`] pads wide;
+/// `None` where the cell is cheap to test, the pad is `g`'s already, or
+/// the box fits in one such cell.
+fn wide_geom(g: &Geom, cell_refs: usize, narrow: &Geom, reach: &Reach) -> Option<Geom> {
+    if cell_refs <= CHEAP_REFS || reach.is_unbounded() {
+        return None;
+    }
+    let ext = narrow.bounds.extent();
+    let dims: [u32; 3] = std::array::from_fn(|a| {
+        let fit = (ext[a] / (WIDE_CELL_PADS * g.pad)).floor();
+        // `as` saturates; a NaN (no pad) gives 0 and then 1 cell.
+        (fit as u32).clamp(1, narrow.dims[a])
+    });
+    (dims != [1, 1, 1]).then(|| Geom::new(narrow.bounds, dims).with_pad(g.pad))
 }
 
 /// The geometry of the nested grid over `cell` with `dims` cells, in a
@@ -699,7 +824,12 @@ fn pad_of(parent: Real, cell_refs: usize, bounds: &Aabb, dims: [u32; 3], span: &
         .map(|a| ext[a] / dims[a] as Real)
         .fold(Real::INFINITY, Real::min);
     let own = PAD_ULPS * Real::EPSILON * span.extent().max_element();
-    (PAD_CELLS * cell).max(parent / step).min(parent).max(own)
+    let pad = (PAD_CELLS * cell).max(parent / step).max(own);
+    if pad * PAD_SNAP >= parent {
+        parent
+    } else {
+        pad
+    }
 }
 
 /// Fills a planned nested grid (its references in order).
@@ -723,6 +853,7 @@ fn fill(plan: &Plan, start: u32, depth: u32) -> Sub {
         direct: plan.direct.clone().into_boxed_slice(),
         children: Children::default(),
         depth,
+        wide: plan.wide.as_ref().map(|w| Box::new(fill(w, start, depth))),
     }
 }
 

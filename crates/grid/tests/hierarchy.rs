@@ -562,8 +562,8 @@ fn rays_at_the_sheet(size: Real, away: Real) -> Vec<Ray> {
 /// 0.015 in f32, the small one's nested cells would each hold their
 /// neighbours' triangles too, and rays test some 14 times as many). Rays
 /// from near it, from across the room and from farther than the nested
-/// grids' reach (they test their parent cells' references instead) get
-/// the exhaustive answers.
+/// grids' reach (they test their parent cells' references, or walk a wide
+/// grid, instead) get the exhaustive answers.
 #[test]
 fn a_small_object_in_a_large_room_nests_alike_at_any_scale() {
     use gridrt_grid::QueryCounters;
@@ -587,6 +587,14 @@ fn a_small_object_in_a_large_room_nests_alike_at_any_scale() {
     // (7,200 triangles).
     let far = tests_per_ray(0.5, 3e3);
     assert!(far <= 1000.0, "{far} tests per ray from afar");
+    // From beyond the first-level grid's reach too (10,000 units away, a
+    // telephoto view), a ray walks the wide grid kept beside it for such
+    // rays, not the whole sheet.
+    let telephoto = tests_per_ray(0.5, 2e4);
+    assert!(
+        telephoto <= 1000.0,
+        "{telephoto} tests per ray from 10,000 units"
+    );
 
     let size = 0.5;
     let configs = [

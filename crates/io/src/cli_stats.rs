@@ -99,6 +99,8 @@ struct LevelJson {
     references: u64,
     direct_refs: u64,
     max_refs_per_cell: u32,
+    wide_grids: u64,
+    wide_references: u64,
 }
 
 impl From<&NestLevel> for LevelJson {
@@ -110,6 +112,8 @@ impl From<&NestLevel> for LevelJson {
             references: l.references,
             direct_refs: l.direct_refs,
             max_refs_per_cell: l.max_refs_per_cell,
+            wide_grids: l.wide_grids,
+            wide_references: l.wide_references,
         }
     }
 }
@@ -128,8 +132,13 @@ pub(crate) fn level_lines(g: &GridStats) -> String {
         } else {
             String::new()
         };
+        let wide = match l.wide_grids {
+            0 => String::new(),
+            1 => format!(", 1 wide grid of {} refs", l.wide_references),
+            n => format!(", {n} wide grids of {} refs", l.wide_references),
+        };
         t += &format!(
-            "  level {:<4}{} {grids}, {} cells, {} occupied, {} refs ({per:.2} per occupied cell, max {}){direct}\n",
+            "  level {:<4}{} {grids}, {} cells, {} occupied, {} refs ({per:.2} per occupied cell, max {}){direct}{wide}\n",
             i + 1,
             l.grids,
             l.cells,
@@ -262,22 +271,24 @@ mod tests {
     #[test]
     fn each_level_of_nested_grids_gets_a_line() {
         assert_eq!(level_lines(&GridStats::default()), "");
-        let level = |grids, direct_refs| NestLevel {
+        let level = |grids, direct_refs, wide_grids| NestLevel {
             grids,
             cells: 512,
             occupied_cells: 100,
             references: 250,
             direct_refs,
             max_refs_per_cell: 9,
+            wide_grids,
+            wide_references: 40 * wide_grids,
         };
         let g = GridStats {
-            levels: vec![level(1, 14), level(3, 0)],
+            levels: vec![level(1, 14, 1), level(3, 0, 2)],
             ..GridStats::default()
         };
         assert_eq!(
             level_lines(&g),
-            "  level 1   1 grid, 512 cells, 100 occupied, 250 refs (2.50 per occupied cell, max 9), 14 tested on entry\n\
-             \x20 level 2   3 grids, 512 cells, 100 occupied, 250 refs (2.50 per occupied cell, max 9)\n"
+            "  level 1   1 grid, 512 cells, 100 occupied, 250 refs (2.50 per occupied cell, max 9), 14 tested on entry, 1 wide grid of 40 refs\n\
+             \x20 level 2   3 grids, 512 cells, 100 occupied, 250 refs (2.50 per occupied cell, max 9), 2 wide grids of 80 refs\n"
         );
     }
 }

@@ -107,12 +107,13 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
 
     /// Walks the nested grid of a crowded cell instead of testing the
     /// cell's references one by one: the same query, one level down. A ray
-    /// from beyond the nested grid's reach tests them one by one.
+    /// from beyond the nested grid's reach walks its wide grid, or tests
+    /// them one by one.
     #[inline(never)]
     fn walk_sub(&mut self, sub: &Sub, refs: &[u32]) {
-        if !sub.reach.covers(self.ray.origin) {
+        let Some(sub) = sub.for_ray(self.ray) else {
             return self.test_refs(refs);
-        }
+        };
         sub.prefetch();
         if !sub.direct.is_empty() {
             self.test_refs(&sub.direct);
@@ -277,12 +278,13 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
     /// Walks the nested grid of a crowded cell: only the references in the
     /// nested cells along the ray are tested. An occluder whose hit lies
     /// outside this cell is found in the cell that holds the hit. A ray
-    /// from beyond the nested grid's reach tests the cell's `refs`.
+    /// from beyond the nested grid's reach walks its wide grid, or tests
+    /// the cell's `refs`.
     #[inline(never)]
     fn walk_sub(&mut self, sub: &Sub, refs: &[u32]) -> ControlFlow<()> {
-        if !sub.reach.covers(self.ray.origin) {
+        let Some(sub) = sub.for_ray(self.ray) else {
             return self.test_refs(refs);
-        }
+        };
         sub.prefetch();
         self.test_refs(&sub.direct)?;
         let Some(dda) = Dda::new(&sub.geom, self.ray, self.t_min, self.t_max) else {
