@@ -183,32 +183,56 @@ fn build<P: Primitive<Shared = ()> + Clone + Send>(
     (a, best, bytes, chose)
 }
 
-/// Times one column on one ray set: the rays, or an evenly spread subset
-/// when the estimated tests exceed `budget`.
-fn time_set<P: Primitive>(a: &Acc<P>, rays: &[Query], runs: u32, budget: f64) -> Cell {
-    if rays.is_empty() {
-        return Cell::default();
+/// One column's timing on one ray set: the rays it traces (all, or an
+/// evenly spread subset when the estimated tests exceed the budget) and
+/// its best time so far.
+struct Timing {
+    sub: Vec<Query>,
+    estimated: bool,
+    best: f64,
+    hits: u64,
+}
+
+impl Timing {
+    fn new<P: Primitive>(a: &Acc<P>, rays: &[Query], budget: f64) -> Self {
+        let mut stride = 1;
+        if !rays.is_empty() {
+            let probe: Vec<Query> = rays.iter().step_by(97).copied().collect();
+            let est = a.count(&probe).tests_per_ray() * rays.len() as f64;
+            stride = (est / budget).ceil().max(1.0) as usize;
+        }
+        Self {
+            sub: rays.iter().step_by(stride).copied().collect(),
+            estimated: stride > 1,
+            best: f64::INFINITY,
+            hits: 0,
+        }
     }
-    let probe: Vec<Query> = rays.iter().step_by(97).copied().collect();
-    let est = a.count(&probe).tests_per_ray() * rays.len() as f64;
-    let stride = (est / budget).ceil().max(1.0) as usize;
-    let sub: Vec<Query> = rays.iter().step_by(stride).copied().collect();
-    let mut best = f64::INFINITY;
-    let mut n_hit = 0;
-    for _ in 0..runs {
+
+    /// Traces the rays once, keeping the best time.
+    fn run<P: Primitive>(&mut self, a: &Acc<P>) {
+        if self.sub.is_empty() {
+            return;
+        }
         let t = cpu_s(THREAD_CPU);
-        n_hit = a.trace(&sub);
-        best = best.min(cpu_s(THREAD_CPU) - t);
+        self.hits = a.trace(&self.sub);
+        self.best = self.best.min(cpu_s(THREAD_CPU) - t);
     }
-    let c = a.count(&sub);
-    Cell {
-        mrays: sub.len() as f64 / best.max(1e-9) * 1e-6,
-        cells: c.cells_per_ray(),
-        tests: c.tests_per_ray(),
-        hits: n_hit,
-        rays: sub.len() as u64,
-        estimated: stride > 1,
-        ..Cell::default()
+
+    fn cell<P: Primitive>(&self, a: &Acc<P>) -> Cell {
+        if self.sub.is_empty() {
+            return Cell::default();
+        }
+        let c = a.count(&self.sub);
+        Cell {
+            mrays: self.sub.len() as f64 / self.best.max(1e-9) * 1e-6,
+            cells: c.cells_per_ray(),
+            tests: c.tests_per_ray(),
+            hits: self.hits,
+            rays: self.sub.len() as u64,
+            estimated: self.estimated,
+            ..Cell::default()
+        }
     }
 }
 
@@ -352,13 +376,24 @@ fn measure_prims<P: Primitive<Shared = ()> + Clone + Send>(
             rays: set.rays.len(),
             ..Row::default()
         };
-        for (k, (name, a, build_s, bytes, chose)) in accs.iter().enumerate() {
-            // Embree runs between the first grid column and the others,
-            // so both see the same machine load.
-            if k == 1 {
+        // The columns are timed in rounds, one pass each, and Embree runs
+        // half-way through: a slow spell of a shared machine then slows
+        // every column alike instead of one.
+        let mut timings: Vec<Timing> = accs
+            .iter()
+            .map(|(_, a, ..)| Timing::new(a, &set.rays, args.budget))
+            .collect();
+        let half = args.runs.div_ceil(2);
+        for round in 0..args.runs {
+            if round == half.min(args.runs - 1) {
                 row.embree = run_peer(peer, &set.rays, scene, set.kind, args.runs, work);
             }
-            let mut c = time_set(a, &set.rays, args.runs, args.budget);
+            for ((_, a, ..), t) in accs.iter().zip(&mut timings) {
+                t.run(a);
+            }
+        }
+        for ((name, a, build_s, bytes, chose), t) in accs.iter().zip(&timings) {
+            let mut c = t.cell(a);
             c.build_s = *build_s;
             c.bytes = *bytes;
             c.chose = chose;

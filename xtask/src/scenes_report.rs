@@ -120,8 +120,9 @@ fn markdown(r: &Report) -> String {
          `rtcIntersect1`), given the same triangles (written to an OBJ) and the same rays. \
          Both sides are timed in the thread's CPU time (the peer's copy is compiled with \
          `CLOCK_THREAD_CPUTIME_ID` for `CLOCK_MONOTONIC`), the best of {} runs, so that other \
-         processes on a shared machine do not inflate them; on each ray set Embree runs \
-         between the flat grid and the other columns. Cache sharing still moves absolute \
+         processes on a shared machine do not inflate them; on each ray set the columns are \
+         timed in rounds, one pass of each per round, and Embree runs half-way through, so \
+         that a slow spell slows every column alike. Cache sharing still moves absolute \
          figures from run to run; ratios within one run move much less. \
          Camera rays: {}×{} pixel centres (Suffern's scenes: his 400×400 camera); \
          incoherent rays: one cosine-distributed bounce from each camera hit. \
