@@ -129,6 +129,15 @@ impl Geom {
         }
     }
 
+    /// Heap bytes of the cell planes, as stored and as the walk sees them.
+    pub(crate) fn planes_bytes(&self) -> usize {
+        self.planes
+            .iter()
+            .chain(&self.walk)
+            .map(|p| std::mem::size_of_val(&**p))
+            .sum()
+    }
+
     /// The geometry for a finite, non-empty `bounds` and the given cell counts.
     pub(crate) fn new(bounds: Aabb, dims: [u32; 3]) -> Self {
         debug_assert!(!bounds.is_empty() && dims.iter().all(|&n| n >= 1));

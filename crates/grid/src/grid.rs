@@ -348,12 +348,7 @@ impl<P: Primitive> Grid<P> {
             Cells::Dense { offsets } => std::mem::size_of_val(&**offsets),
             Cells::Hashed { table } => table.bytes(),
         };
-        let planes: usize = self
-            .geom
-            .planes
-            .iter()
-            .map(|p| 2 * std::mem::size_of_val(&**p))
-            .sum();
+        let planes = self.geom.planes_bytes();
         let spread: usize = self
             .spread
             .iter()

@@ -197,12 +197,7 @@ impl Sub {
             + std::mem::size_of_val(&*self.direct)
             + std::mem::size_of_val(&*self.occ)
             + self.children.bytes()
-            + self
-                .geom
-                .planes
-                .iter()
-                .map(|p| 2 * std::mem::size_of_val(&**p))
-                .sum::<usize>()
+            + self.geom.planes_bytes()
             + self.wide.as_ref().map_or(0, |w| w.bytes())
     }
 }
@@ -339,12 +334,7 @@ impl Plan {
             + 4 * refs
             + 4 * self.direct.len()
             + 8 * (self.offsets.len() - 1).div_ceil(64)
-            + self
-                .geom
-                .planes
-                .iter()
-                .map(|p| 2 * std::mem::size_of_val(&**p))
-                .sum::<usize>()
+            + self.geom.planes_bytes()
             + Children::bytes_for(refs)
             + self.wide.as_ref().map_or(0, |w| w.bytes())
     }
