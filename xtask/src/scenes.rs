@@ -383,9 +383,8 @@ fn measure_prims<P: Primitive<Shared = ()> + Clone + Send>(
             .iter()
             .map(|(_, a, ..)| Timing::new(a, &set.rays, args.budget))
             .collect();
-        let half = args.runs.div_ceil(2);
         for round in 0..args.runs {
-            if round == half.min(args.runs - 1) {
+            if round == args.runs / 2 {
                 row.embree = run_peer(peer, &set.rays, scene, set.kind, args.runs, work);
             }
             for ((_, a, ..), t) in accs.iter().zip(&mut timings) {
