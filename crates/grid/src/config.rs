@@ -221,8 +221,9 @@ pub struct NestLevel {
     pub direct_refs: u64,
     /// The most references in one cell of the level.
     pub max_refs_per_cell: u32,
-    /// Wide grids beside the level's grids: the same references with the
-    /// parent's pad, walked by rays from too far for a grid's own pad.
+    /// Wide grids beside the level's grids: the same references with
+    /// wider pads (a chain per grid, up to the parent's pad), walked by
+    /// rays from too far for a grid's own pad.
     pub wide_grids: u64,
     /// Their references.
     pub wide_references: u64,

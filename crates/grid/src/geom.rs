@@ -36,8 +36,8 @@ pub(crate) const RAY_ULPS: Real = 8.0;
 /// The rays a nested grid's pad covers ([`RAY_ULPS`]): those whose origin
 /// lies within `far`, in every coordinate, of every point of `span`, the
 /// box of the grid's references; every ray when the pad is its parent's.
-/// A ray from farther away tests the parent cell's references instead of
-/// walking the nested grid.
+/// A ray from farther away walks a wide grid or tests the parent cell's
+/// references instead ([`crate::nested`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Reach {
     lo: Vec3,
@@ -59,11 +59,6 @@ impl Reach {
                 Real::INFINITY
             },
         }
-    }
-
-    /// Whether the pad covers every ray its parent's does.
-    pub(crate) fn is_unbounded(&self) -> bool {
-        self.far == Real::INFINITY
     }
 
     /// Whether the pad covers a ray from `origin` (never for a NaN origin).

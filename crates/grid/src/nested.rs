@@ -43,19 +43,21 @@
 //! from anywhere in a scene thousands of times larger than a detailed
 //! object, would be as wide as the object's nested cells and put each
 //! primitive in the cells around its own. A nested grid's pad is a
-//! sixteenth of its cells' width ([`PAD_CELLS`]), but no less than an
-//! eighth of its parent's ([`PAD_STEP`]; a quarter in a cell of more than
-//! [`CHEAP_REFS`] references), no less than the outermost rule applied to
-//! its references' own box, and the parent's own when it would be more
-//! than half of it ([`PAD_SNAP`]). A grid with its parent's pad covers
-//! every ray its parent does; a narrower pad covers the rays from within
-//! its [`Reach`]. A ray from farther away tests the parent cell's
-//! references instead of walking it, or, in a cell of more than
-//! [`CHEAP_REFS`] references, walks the cell's wide grid ([`Sub::wide`]):
-//! the same references, with the parent's pad, in cells at least
-//! [`WIDE_CELL_PADS`] pads wide. Exact either way; so a telephoto view of
-//! a small object from far outside the scene walks coarse cells instead of
-//! testing the whole object.
+//! sixteenth of its cells' width ([`PAD_CELLS`]), no less than the
+//! outermost rule applied to its references' own box, in a cell of at
+//! most [`CHEAP_REFS`] references no less than an eighth of its parent's
+//! ([`PAD_STEP`]), and the parent's own when it would be more than half of
+//! it ([`PAD_SNAP`]). A grid with its parent's pad covers every ray its
+//! parent does; a narrower pad covers the rays from within its [`Reach`].
+//! A ray from farther away tests the parent cell's references instead of
+//! walking it, or, in a cell of more than [`CHEAP_REFS`] references,
+//! walks the first of the cell's chain of wide grids that covers it
+//! ([`Sub::wide`]): the same references, each grid with a pad
+//! [`WIDE_STEP`] times the previous one's up to the parent's, in cells at
+//! least [`WIDE_CELL_PADS`] pads wide. Exact either way; so rays near a
+//! detailed object walk cells fitted to it, and a telephoto view of it
+//! from far outside the scene walks coarser cells instead of testing the
+//! whole object.
 //!
 //! **Correctness** is the outer grid's argument one level down. A nested
 //! grid spans every point of its cell that lies in one of its references'
@@ -92,16 +94,15 @@ pub(crate) const SHRINK: f64 = 0.25;
 /// A nested grid's pad, as a fraction of its narrowest cell width.
 pub(crate) const PAD_CELLS: Real = 1.0 / 16.0;
 
-/// A nested grid's pad is at least its parent's divided by this ...
+/// A nested grid's pad is at least its parent's divided by this when its
+/// cell holds at most [`CHEAP_REFS`] references.
 pub(crate) const PAD_STEP: Real = 8.0;
 
-/// ... when its cell holds at most this many references (what a ray from
-/// beyond the nested grid's reach tests instead of walking it) ...
+/// A ray from beyond a nested grid's reach tests the cell's references
+/// instead of walking it when they are at most this many; a more crowded
+/// cell keeps wide grids for such rays ([`Sub::wide`]), and its nested
+/// grid's pad has no floor but its own references' ([`pad_of`]).
 pub(crate) const CHEAP_REFS: usize = 512;
-
-/// ... and divided by this in a more crowded cell, which such a ray would
-/// find costlier to test.
-pub(crate) const PAD_STEP_CROWDED: Real = 4.0;
 
 /// A pad within this factor of the parent's is the parent's: the grid
 /// then covers every ray its parent does, at the cost of a slightly wider
@@ -110,9 +111,13 @@ pub(crate) const PAD_STEP_CROWDED: Real = 4.0;
 pub(crate) const PAD_SNAP: Real = 2.0;
 
 /// A crowded cell whose nested grid's pad is narrower than its parent's
-/// also gets a wide grid, with the parent's pad and cells at least this
-/// many pads wide, for the rays from beyond the nested grid's reach.
+/// also gets a chain of wide grids for the rays from beyond the nested
+/// grid's reach, each with cells at least this many pads wide ...
 pub(crate) const WIDE_CELL_PADS: Real = 4.0;
+
+/// ... and a pad this many times the previous one's, up to the parent's
+/// (the last, which covers every ray).
+pub(crate) const WIDE_STEP: Real = 4.0;
 
 /// A nested grid is built only if its occupied cells hold on average at
 /// most this fraction of the parent cell's references.
@@ -170,26 +175,28 @@ pub(crate) struct Sub {
     pub children: Children,
     /// 1 for a grid nested in the flat grid's cell, 2 one level down, …
     pub depth: u32,
-    /// The same references in coarser cells with the parent's pad, for
-    /// the rays beyond `reach` (none where the cell holds at most
-    /// [`CHEAP_REFS`] references, which such a ray tests instead, or the
-    /// pad is the parent's); it has neither children nor a wide grid.
+    /// The same references in coarser cells with a [`WIDE_STEP`] times
+    /// wider pad, for the rays beyond `reach` (none where the cell holds at
+    /// most [`CHEAP_REFS`] references, which such a ray tests instead, or
+    /// the pad is the parent's). It has no children, and a wide grid of its
+    /// own until the pad is the parent's: a chain of reaches, so that a ray
+    /// walks the finest grid whose pad covers it.
     pub wide: Option<Box<Sub>>,
 }
 
 impl Sub {
-    /// The grid a ray walks in this one's cell: this one if its pad covers
-    /// the ray, else the wide grid if there is one.
+    /// The grid a ray walks in this one's cell: the first of this one and
+    /// its chain of wide grids whose pad covers the ray, if any.
     #[inline(always)]
     pub(crate) fn for_ray(&self, ray: &gridrt_bbox::Ray) -> Option<&Sub> {
-        if self.reach.covers(ray.origin) {
-            Some(self)
-        } else {
-            self.wide.as_deref()
+        let mut s = self;
+        while !s.reach.covers(ray.origin) {
+            s = s.wide.as_deref()?;
         }
+        Some(s)
     }
 
-    /// Heap bytes of this grid and of its wide grid.
+    /// Heap bytes of this grid and of its chain of wide grids.
     fn bytes(&self) -> usize {
         std::mem::size_of::<Sub>()
             + std::mem::size_of_val(&*self.offsets)
@@ -320,7 +327,8 @@ struct Plan {
     /// The references in the nested grid, each with its cell range.
     ranges: Vec<(u32, CellRange)>,
     direct: Vec<u32>,
-    /// The plan of its wide grid ([`Sub::wide`]).
+    /// The plan of its first wide grid ([`Sub::wide`]), which holds the
+    /// next.
     wide: Option<Box<Plan>>,
 }
 
@@ -495,9 +503,11 @@ impl Nested {
             l.references += s.refs.len() as u64;
             l.direct_refs += s.direct.len() as u64;
             l.max_refs_per_cell = l.max_refs_per_cell.max(counts.max().unwrap_or(0));
-            if let Some(w) = &s.wide {
+            let mut w = s.wide.as_deref();
+            while let Some(wg) = w {
                 l.wide_grids += 1;
-                l.wide_references += w.refs.len() as u64;
+                l.wide_references += wg.refs.len() as u64;
+                w = wg.wide.as_deref();
             }
         }
         levels
@@ -537,23 +547,31 @@ impl Nested {
             if sg.bounds != cover(g, idx, boxes.iter().copied()) {
                 return Err(format!("cell {idx:?}: nested grid not over the cell"));
             }
-            let (want, reach) = padded(g, refs.len(), sg.bounds, sg.dims, &boxes);
-            if sg.pad != want.pad || sub.reach != reach {
+            let span = span_of(sg.bounds, &boxes);
+            let pad = pad_of(g.pad, refs.len(), &sg.bounds, sg.dims, &span);
+            if sg.pad != pad || sub.reach != Reach::new(&span, pad, g.pad) {
                 return Err(format!("cell {idx:?}: nested pad or reach wrong"));
             }
             let own = check_cells(prims, shared, idx, sub, &inner)?;
-            if let Some(w) = &sub.wide {
-                let want = wide_geom(g, refs.len(), sg, &sub.reach);
-                let same = want.is_some_and(|want| {
-                    (want.bounds, want.dims, want.pad) == (w.geom.bounds, w.geom.dims, w.geom.pad)
-                });
-                if !same || w.reach != Reach::new(&sg.bounds, g.pad, g.pad) {
-                    return Err(format!("cell {idx:?}: wide grid's box, cells or pad wrong"));
+            // The wide grids: a chain of those `wide_chain` plans, in order
+            // (a link whose references did not separate is left out).
+            let mut want = wide_chain(g, refs.len(), sg, &span).into_iter();
+            let mut w = sub.wide.as_deref();
+            while let Some(wg) = w {
+                let same = |(geom, reach): &(Geom, Reach)| {
+                    (geom.bounds, geom.dims, geom.pad, *reach)
+                        == (wg.geom.bounds, wg.geom.dims, wg.geom.pad, wg.reach)
+                };
+                if !want.any(|link| same(&link)) {
+                    return Err(format!(
+                        "cell {idx:?}: wide grid's box, cells, pad or reach wrong"
+                    ));
                 }
-                if w.direct != sub.direct || w.wide.is_some() || !w.children.is_empty() {
+                if wg.direct != sub.direct || !wg.children.is_empty() {
                     return Err(format!("cell {idx:?}: wide grid not like its nested grid"));
                 }
-                check_cells(prims, shared, idx, w, &inner)?;
+                check_cells(prims, shared, idx, wg, &inner)?;
+                w = wg.wide.as_deref();
             }
             reached += 1 + self.check(prims, shared, sg, &sub.children, own)?;
         }
@@ -676,8 +694,10 @@ fn plan<P: Primitive>(
     if dims == [1, 1, 1] {
         return None;
     }
-    let (mut geom, reach) = padded(g, refs.len(), cell, dims, &boxes);
+    let span = span_of(cell, &boxes);
+    let mut geom = Geom::new(cell, dims).with_pad(pad_of(g.pad, refs.len(), &cell, dims, &span));
     geom.slab = p.slab;
+    let reach = Reach::new(&span, geom.pad, g.pad);
     // Whether a grid holding `total` references pays, by the estimate.
     let pays = |total: u64| {
         !p.cost
@@ -687,18 +707,22 @@ fn plan<P: Primitive>(
             )
     };
     let (offsets, ranges) = layout(&geom, &inner, &boxes, refs.len(), pays)?;
-    let wide = wide_geom(g, refs.len(), &geom, &reach).and_then(|mut wide| {
-        wide.slab = p.slab;
-        let (offsets, ranges) = layout(&wide, &inner, &boxes, refs.len(), |_| true)?;
-        Some(Box::new(Plan {
-            reach: Reach::new(&wide.bounds, wide.pad, g.pad),
-            geom: wide,
+    // The chain of wide grids, coarsest first, each holding the next finer.
+    let mut wide: Option<Box<Plan>> = None;
+    for (mut w, w_reach) in wide_chain(g, refs.len(), &geom, &span).into_iter().rev() {
+        w.slab = p.slab;
+        let Some((offsets, ranges)) = layout(&w, &inner, &boxes, refs.len(), |_| true) else {
+            continue;
+        };
+        wide = Some(Box::new(Plan {
+            geom: w,
+            reach: w_reach,
             offsets,
             ranges,
             direct: direct.clone(),
-            wide: None,
-        }))
-    });
+            wide,
+        }));
+    }
     Some(Plan {
         geom,
         reach,
@@ -770,51 +794,67 @@ fn layout(
     Some((offsets, ranges))
 }
 
-/// The geometry of the wide grid ([`Sub::wide`]) beside the nested grid
-/// `narrow` with reach `reach`, in a cell of `cell_refs` references of
-/// grid `g`: over the same box with `g`'s pad, in no more cells per axis
-/// than the nested grid and cells at least [`WIDE_CELL_PADS`] pads wide;
-/// `None` where the cell is cheap to test, the pad is `g`'s already, or
-/// the box fits in one such cell.
-fn wide_geom(g: &Geom, cell_refs: usize, narrow: &Geom, reach: &Reach) -> Option<Geom> {
-    if cell_refs <= CHEAP_REFS || reach.is_unbounded() {
-        return None;
+/// The geometries and reaches of the chain of wide grids ([`Sub::wide`])
+/// beside the nested grid `narrow`, whose references' boxes span `span`,
+/// in a cell of `cell_refs` references of grid `g`, finest first: over the
+/// same box, each with a pad [`WIDE_STEP`] times the previous one's (the
+/// parent's when within [`PAD_SNAP`] of it, which ends the chain), in no
+/// more cells per axis than the nested grid and cells at least
+/// [`WIDE_CELL_PADS`] pads wide. None where the cell is cheap to test or
+/// the nested pad is the parent's; the chain stops where the box fits in
+/// one such cell (a ray beyond the last reach tests the references).
+fn wide_chain(g: &Geom, cell_refs: usize, narrow: &Geom, span: &Aabb) -> Vec<(Geom, Reach)> {
+    let mut chain = Vec::new();
+    if cell_refs <= CHEAP_REFS {
+        return chain;
     }
     let ext = narrow.bounds.extent();
-    let dims: [u32; 3] = std::array::from_fn(|a| {
-        let fit = (ext[a] / (WIDE_CELL_PADS * g.pad)).floor();
-        // `as` saturates; a NaN (no pad) gives 0 and then 1 cell.
-        (fit as u32).clamp(1, narrow.dims[a])
-    });
-    (dims != [1, 1, 1]).then(|| Geom::new(narrow.bounds, dims).with_pad(g.pad))
+    let mut pad = narrow.pad;
+    // (A zero pad would never grow; a nested grid has none.)
+    while pad > 0.0 && pad < g.pad {
+        pad = if pad * WIDE_STEP * PAD_SNAP >= g.pad {
+            g.pad
+        } else {
+            pad * WIDE_STEP
+        };
+        let dims: [u32; 3] = std::array::from_fn(|a| {
+            let fit = (ext[a] / (WIDE_CELL_PADS * pad)).floor();
+            // `as` saturates; a NaN (no pad) gives 0 and then 1 cell.
+            (fit as u32).clamp(1, narrow.dims[a])
+        });
+        if dims == [1, 1, 1] {
+            break;
+        }
+        chain.push((
+            Geom::new(narrow.bounds, dims).with_pad(pad),
+            Reach::new(span, pad, g.pad),
+        ));
+    }
+    chain
 }
 
-/// The geometry of the nested grid over `cell` with `dims` cells, in a
-/// cell of `cell_refs` references of grid `g`, whose references' boxes are
-/// `boxes`: its pad ([`pad_of`]) and the reach of that pad.
-fn padded(g: &Geom, cell_refs: usize, cell: Aabb, dims: [u32; 3], boxes: &[Aabb]) -> (Geom, Reach) {
-    let span = boxes.iter().fold(cell, |s, b| s.union(*b));
-    let geom = Geom::new(cell, dims).with_pad(pad_of(g.pad, cell_refs, &cell, dims, &span));
-    let reach = Reach::new(&span, geom.pad, g.pad);
-    (geom, reach)
+/// What the references' boxes `boxes` of a nested grid over `cell` span
+/// (with the cell): where the rays its pad covers are measured from.
+fn span_of(cell: Aabb, boxes: &[Aabb]) -> Aabb {
+    boxes.iter().fold(cell, |s, b| s.union(*b))
 }
 
 /// The pad of a nested grid over `bounds` with `dims` cells, in a cell of
 /// `cell_refs` references of a grid of pad `parent`, whose references'
 /// boxes span `span` (the module's notes).
 fn pad_of(parent: Real, cell_refs: usize, bounds: &Aabb, dims: [u32; 3], span: &Aabb) -> Real {
-    let step = if cell_refs <= CHEAP_REFS {
-        PAD_STEP
-    } else {
-        PAD_STEP_CROWDED
-    };
     let ext = bounds.extent();
     let cell = (0..3)
         .filter(|&a| dims[a] > 1)
         .map(|a| ext[a] / dims[a] as Real)
         .fold(Real::INFINITY, Real::min);
     let own = PAD_ULPS * Real::EPSILON * span.extent().max_element();
-    let pad = (PAD_CELLS * cell).max(parent / step).max(own);
+    let floor = if cell_refs <= CHEAP_REFS {
+        parent / PAD_STEP
+    } else {
+        0.0
+    };
+    let pad = (PAD_CELLS * cell).max(floor).max(own);
     if pad * PAD_SNAP >= parent {
         parent
     } else {

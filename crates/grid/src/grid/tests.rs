@@ -192,13 +192,16 @@ fn the_distance_map_skips_only_empty_cells() {
     }
 }
 
-/// A cluster of 4,000 small balls, 0.5 wide, in a scene 2,000 wide: in
-/// `f32` its first-level nested grid narrows the pad, so it keeps a wide
-/// grid for rays from farther than its reach (in `f64` the pad is far
-/// below the cells, the nested grid keeps its parent's and covers them).
-/// Such rays get the exhaustive answers without testing the cluster
-/// whole, and `check_invariants` refuses a wide grid that lost a
-/// reference or took a narrower pad.
+/// A cluster of 4,000 small balls, 0.5 wide, in a scene 16,000 wide: in
+/// `f32` its first-level nested grid narrows the pad, so it keeps a chain
+/// of wide grids, each with a wider pad, for rays from farther than its
+/// reach (in `f64` the pad is far below the cells, the nested grid keeps
+/// its parent's and covers them). Rays from near and far get the
+/// exhaustive answers without testing the cluster whole, rays from near
+/// test about what they test in the cluster's own grid (330 per ray, 12
+/// times as many, with a pad of at least a quarter of the parent's), and
+/// `check_invariants` refuses a wide grid that lost a reference or took a
+/// narrower pad.
 #[test]
 fn a_far_ray_walks_the_wide_grid_of_a_crowded_cell() {
     let mut s = 7u64;
@@ -208,8 +211,8 @@ fn a_far_ray_walks_the_wide_grid_of_a_crowded_cell() {
             Ball(c, 0.002)
         })
         .collect();
-    balls.push(Ball(Vec3::splat(-1000.0), 1.0));
-    balls.push(Ball(Vec3::splat(1000.0), 1.0));
+    balls.push(Ball(Vec3::splat(-8000.0), 1.0));
+    balls.push(Ball(Vec3::splat(8000.0), 1.0));
     let build = || Grid::build(balls.clone(), &GridConfig::default());
     let g = build();
     g.check_invariants().expect("a valid grid");
@@ -218,17 +221,27 @@ fn a_far_ray_walks_the_wide_grid_of_a_crowded_cell() {
         assert!(wide.is_none());
     } else {
         let wide = wide.expect("a wide grid beside the cluster's nested grid");
-        assert!(wide.geom.cell_count() > 1 && wide.children.is_empty());
+        let mut pads = Vec::new();
+        let mut w = Some(wide);
+        while let Some(wg) = w {
+            assert!(wg.geom.cell_count() > 1 && wg.children.is_empty());
+            pads.push(wg.geom.pad);
+            w = wg.wide.as_deref();
+        }
+        assert!(pads.len() >= 2, "a chain of wide grids: pads {pads:?}");
+        assert!(pads.windows(2).all(|p| p[0] < p[1]), "pads {pads:?}");
     }
 
     let ex = Exhaustive::new(balls.clone());
     let (mut gs, mut es) = (g.scratch(), ex.scratch());
-    let mut c = crate::QueryCounters::default();
+    // Per distance: 3, 900 and 9,000 units.
+    let mut c = [crate::QueryCounters::default(); 3];
     for i in 0..300 {
         let to = balls[i * 13].0;
-        let from = to + Vec3::new(0.3, 1.0, 0.6).normalize() * 9000.0;
+        let far = [3.0, 900.0, 9000.0][i % 3];
+        let from = to + Vec3::new(0.3, 1.0, 0.6).normalize() * far;
         let ray = Ray::new(from, to - from);
-        let hit = g.closest_hit_counted(&ray, 0.0, Real::INFINITY, &mut gs, &mut c);
+        let hit = g.closest_hit_counted(&ray, 0.0, Real::INFINITY, &mut gs, &mut c[i % 3]);
         let want = ex.closest_hit(&ray, 0.0, Real::INFINITY, &mut es);
         assert_eq!(hit.map(|h| (h.t, h.prim)), want.map(|h| (h.t, h.prim)));
         assert_eq!(
@@ -236,10 +249,29 @@ fn a_far_ray_walks_the_wide_grid_of_a_crowded_cell() {
             ex.any_hit(&ray, 0.0, Real::INFINITY, &mut es)
         );
     }
+    let tests = c.map(|c| c.tests_per_ray());
+    assert!(tests.iter().all(|&t| t < 400.0), "{tests:?} tests per ray");
+    // Near rays test about what they test in the cluster's own grid: the
+    // nested grid's pad follows its cells, not the scene around it.
+    let alone = Grid::build(balls[..4000].to_vec(), &GridConfig::default());
+    let mut c_alone = crate::QueryCounters::default();
+    for i in (0..300).step_by(3) {
+        let to = balls[i * 13].0;
+        let from = to + Vec3::new(0.3, 1.0, 0.6).normalize() * 3.0;
+        let ray = Ray::new(from, to - from);
+        alone.closest_hit_counted(
+            &ray,
+            0.0,
+            Real::INFINITY,
+            &mut alone.scratch(),
+            &mut c_alone,
+        );
+    }
     assert!(
-        c.tests_per_ray() < 400.0,
-        "{} tests per ray",
-        c.tests_per_ray()
+        tests[0] <= 1.5 * c_alone.tests_per_ray() + 8.0,
+        "near rays: {} tests per ray, {} in the cluster alone",
+        tests[0],
+        c_alone.tests_per_ray()
     );
     if wide.is_none() {
         return;
