@@ -117,7 +117,7 @@ pub(crate) const WIDE_CELL_PADS: Real = 4.0;
 
 /// ... and a pad this many times the previous one's, up to the parent's
 /// (the last, which covers every ray).
-pub(crate) const WIDE_STEP: Real = 4.0;
+pub(crate) const WIDE_STEP: Real = 2.0;
 
 /// A nested grid is built only if its occupied cells hold on average at
 /// most this fraction of the parent cell's references.
