@@ -196,6 +196,11 @@ impl Sub {
         Some(s)
     }
 
+    /// Its chain of wide grids, finest first.
+    pub(crate) fn wide_grids(&self) -> impl Iterator<Item = &Sub> {
+        std::iter::successors(self.wide.as_deref(), |w| w.wide.as_deref())
+    }
+
     /// Heap bytes of this grid and of its chain of wide grids.
     fn bytes(&self) -> usize {
         std::mem::size_of::<Sub>()
@@ -327,8 +332,7 @@ struct Plan {
     /// The references in the nested grid, each with its cell range.
     ranges: Vec<(u32, CellRange)>,
     direct: Vec<u32>,
-    /// The plan of its first wide grid ([`Sub::wide`]), which holds the
-    /// next.
+    /// The plan of its first wide grid ([`Sub::wide`]), holding the next.
     wide: Option<Box<Plan>>,
 }
 
@@ -503,11 +507,9 @@ impl Nested {
             l.references += s.refs.len() as u64;
             l.direct_refs += s.direct.len() as u64;
             l.max_refs_per_cell = l.max_refs_per_cell.max(counts.max().unwrap_or(0));
-            let mut w = s.wide.as_deref();
-            while let Some(wg) = w {
+            for w in s.wide_grids() {
                 l.wide_grids += 1;
-                l.wide_references += wg.refs.len() as u64;
-                w = wg.wide.as_deref();
+                l.wide_references += w.refs.len() as u64;
             }
         }
         levels
@@ -556,8 +558,7 @@ impl Nested {
             // The wide grids: a chain of those `wide_chain` plans, in order
             // (a link whose references did not separate is left out).
             let mut want = wide_chain(g, refs.len(), sg, &span).into_iter();
-            let mut w = sub.wide.as_deref();
-            while let Some(wg) = w {
+            for wg in sub.wide_grids() {
                 let same = |(geom, reach): &(Geom, Reach)| {
                     (geom.bounds, geom.dims, geom.pad, *reach)
                         == (wg.geom.bounds, wg.geom.dims, wg.geom.pad, wg.reach)
@@ -571,7 +572,6 @@ impl Nested {
                     return Err(format!("cell {idx:?}: wide grid not like its nested grid"));
                 }
                 check_cells(prims, shared, idx, wg, &inner)?;
-                w = wg.wide.as_deref();
             }
             reached += 1 + self.check(prims, shared, sg, &sub.children, own)?;
         }

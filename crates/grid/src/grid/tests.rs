@@ -216,17 +216,16 @@ fn a_far_ray_walks_the_wide_grid_of_a_crowded_cell() {
     let build = || Grid::build(balls.clone(), &GridConfig::default());
     let g = build();
     g.check_invariants().expect("a valid grid");
-    let wide = g.nested.subs.iter().find_map(|s| s.wide.as_deref());
+    let owner = g.nested.subs.iter().find(|s| s.wide.is_some());
+    let wide = owner.and_then(|s| s.wide.as_deref());
     if cfg!(feature = "f64") {
         assert!(wide.is_none());
     } else {
-        let wide = wide.expect("a wide grid beside the cluster's nested grid");
+        let owner = owner.expect("a wide grid beside the cluster's nested grid");
         let mut pads = Vec::new();
-        let mut w = Some(wide);
-        while let Some(wg) = w {
+        for wg in owner.wide_grids() {
             assert!(wg.geom.cell_count() > 1 && wg.children.is_empty());
             pads.push(wg.geom.pad);
-            w = wg.wide.as_deref();
         }
         assert!(pads.len() >= 2, "a chain of wide grids: pads {pads:?}");
         assert!(pads.windows(2).all(|p| p[0] < p[1]), "pads {pads:?}");
@@ -254,18 +253,12 @@ fn a_far_ray_walks_the_wide_grid_of_a_crowded_cell() {
     // Near rays test about what they test in the cluster's own grid: the
     // nested grid's pad follows its cells, not the scene around it.
     let alone = Grid::build(balls[..4000].to_vec(), &GridConfig::default());
-    let mut c_alone = crate::QueryCounters::default();
+    let (mut c_alone, mut s_alone) = (crate::QueryCounters::default(), alone.scratch());
     for i in (0..300).step_by(3) {
         let to = balls[i * 13].0;
         let from = to + Vec3::new(0.3, 1.0, 0.6).normalize() * 3.0;
         let ray = Ray::new(from, to - from);
-        alone.closest_hit_counted(
-            &ray,
-            0.0,
-            Real::INFINITY,
-            &mut alone.scratch(),
-            &mut c_alone,
-        );
+        alone.closest_hit_counted(&ray, 0.0, Real::INFINITY, &mut s_alone, &mut c_alone);
     }
     assert!(
         tests[0] <= 1.5 * c_alone.tests_per_ray() + 8.0,
