@@ -30,6 +30,7 @@ mod accuracy_precision;
 mod accuracy_studies;
 mod bitdiff;
 mod corpus;
+mod corpus_generated;
 #[cfg(feature = "embree")]
 mod embree;
 mod imgdiff;

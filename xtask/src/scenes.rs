@@ -276,7 +276,7 @@ pub fn run(args: &Args) -> crate::Outcome {
             continue;
         }
         eprintln!("scenes: {} ...", e.name);
-        let scene = match corpus::load(&e, args.width, args.height) {
+        let scene = match corpus::load(&e, &root, args.width, args.height) {
             Ok(s) => s,
             Err(msg) => {
                 notes.push(format!("{} skipped: {msg}", e.name));
