@@ -1,5 +1,6 @@
 //! The scene corpus of `cargo xtask scenes`: the scenes, their primitives
-//! (triangles in the model file's order, or Suffern's spheres) and their
+//! (triangles in the model file's order, triangles generated from the
+//! teapot by [`crate::corpus_generated`], or Suffern's spheres) and their
 //! ray sets (camera rays, one cosine-distributed bounce from the camera
 //! hits, and the stadium's prop rays). Loading is `gridrt_io`'s; nothing
 //! here traces.
@@ -383,21 +384,7 @@ pub fn load(e: &Entry, root: &Path, w: u32, h: u32) -> Result<CorpusScene, Strin
             };
             let sets = views
                 .iter()
-                .map(|(label, v)| {
-                    let v = v.unwrap_or(framed);
-                    (label.to_string(), v, camera_rays(v, w, h))
-                })
-                .map(|(l, v, r)| {
-                    let about = view_about(v, w, h);
-                    (
-                        if l.is_empty() {
-                            about
-                        } else {
-                            format!("{l}: {about}")
-                        },
-                        r,
-                    )
-                })
+                .map(|(label, v)| view_rays(label, v.unwrap_or(framed), w, h))
                 .collect();
             let about = format!(
                 "{}{}",
@@ -427,15 +414,7 @@ pub fn load(e: &Entry, root: &Path, w: u32, h: u32) -> Result<CorpusScene, Strin
             let sets = built
                 .views
                 .iter()
-                .map(|&(label, v)| {
-                    let about = view_about(v, w, h);
-                    let about = if label.is_empty() {
-                        about
-                    } else {
-                        format!("{label}: {about}")
-                    };
-                    (about, camera_rays(v, w, h))
-                })
+                .map(|&(label, v)| view_rays(label, v, w, h))
                 .collect();
             (Prims::Tris(built.tris), sets, built.about, Vec::new())
         }
@@ -499,12 +478,19 @@ pub fn load(e: &Entry, root: &Path, w: u32, h: u32) -> Result<CorpusScene, Strin
     })
 }
 
-/// What a view's camera rays are, for the report.
-fn view_about(v: View, w: u32, h: u32) -> String {
-    format!(
+/// The camera rays of view `v`, and what they are for the report (after
+/// the view's `label` and a colon, if it has one).
+fn view_rays(label: &str, v: View, w: u32, h: u32) -> (String, Vec<Query>) {
+    let about = format!(
         "{w}×{h} from ({:.4}, {:.4}, {:.4}) to ({:.4}, {:.4}, {:.4}), fov {:.0}°",
         v.eye.x, v.eye.y, v.eye.z, v.look_at.x, v.look_at.y, v.look_at.z, v.vfov_deg
-    )
+    );
+    let about = if label.is_empty() {
+        about
+    } else {
+        format!("{label}: {about}")
+    };
+    (about, camera_rays(v, w, h))
 }
 
 /// The vertices of the meshes whose box is under a hundredth of the
