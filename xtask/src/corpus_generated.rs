@@ -38,26 +38,41 @@ pub fn build(g: Generated, root: &Path) -> Result<Built, String> {
     let file = root.join("fixtures/meshes/teapot/teapot.obj");
     let sandbox = gridrt_io::Sandbox::for_input(&file);
     let model = gridrt_io::load_model_in(&file, &sandbox).map_err(|e| e.to_string())?;
-    let teapot: Vec<[Vec3; 3]> = model.triangles().collect();
-    if teapot.is_empty() {
+    let tris: Vec<[Vec3; 3]> = model.triangles().collect();
+    if tris.is_empty() {
         return Err(format!("{}: no triangles", file.display()));
     }
+    let b = tris
+        .iter()
+        .flatten()
+        .fold(gridrt_bbox::Aabb::EMPTY, |b, p| b.grow(*p));
+    let teapot = Shape {
+        tris,
+        centre: (b.min + b.max) * 0.5,
+        extent: (b.max - b.min).max_element(),
+    };
     Ok(match g {
         Generated::Teapots => teapots(&teapot),
         Generated::City => city(&teapot),
     })
 }
 
-/// `tris` scaled so that their longest extent is `size` and centred on `at`.
-fn placed(tris: &[[Vec3; 3]], size: f64, at: Vec3) -> impl Iterator<Item = [Vec3; 3]> + '_ {
-    let b = tris
-        .iter()
-        .flatten()
-        .fold(gridrt_bbox::Aabb::EMPTY, |b, p| b.grow(*p));
-    let e = b.max - b.min;
-    let s = (size / e.max_element() as f64) as Real;
-    let c = (b.min + b.max) * 0.5;
-    tris.iter().map(move |t| t.map(|p| (p - c) * s + at))
+/// The triangles of a model placed many times, with its box's centre and
+/// longest extent.
+struct Shape {
+    tris: Vec<[Vec3; 3]>,
+    centre: Vec3,
+    extent: Real,
+}
+
+impl Shape {
+    /// The triangles scaled so that their longest extent is `size` and
+    /// centred on `at`.
+    fn placed(&self, size: f64, at: Vec3) -> impl Iterator<Item = [Vec3; 3]> + '_ {
+        let s = (size / self.extent as f64) as Real;
+        let c = self.centre;
+        self.tris.iter().map(move |t| t.map(|p| (p - c) * s + at))
+    }
 }
 
 /// The twelve triangles of box `[lo, hi]`.
@@ -85,7 +100,7 @@ fn cuboid(lo: Vec3, hi: Vec3) -> [[Vec3; 3]; 12] {
     out
 }
 
-fn teapots(teapot: &[[Vec3; 3]]) -> Built {
+fn teapots(teapot: &Shape) -> Built {
     let mut rng = Lcg(0x7ea);
     let mut tris = Vec::new();
     // The largest teapot's centre and size, for the close view.
@@ -100,7 +115,7 @@ fn teapots(teapot: &[[Vec3; 3]]) -> Built {
         if size > largest.1 {
             largest = (at, size);
         }
-        tris.extend(placed(teapot, size, at));
+        tris.extend(teapot.placed(size, at));
     }
     let (at, size) = largest;
     Built {
@@ -129,7 +144,7 @@ fn teapots(teapot: &[[Vec3; 3]]) -> Built {
     }
 }
 
-fn city(teapot: &[[Vec3; 3]]) -> Built {
+fn city(teapot: &Shape) -> Built {
     let mut rng = Lcg(0xc17);
     let mut tris = Vec::new();
     tris.extend(cuboid(
@@ -147,7 +162,7 @@ fn city(teapot: &[[Vec3; 3]]) -> Built {
         }
     }
     // In the street between four blocks, standing on the ground.
-    tris.extend(placed(teapot, 1.0, Vec3::new(5.0, 0.3, 5.0)));
+    tris.extend(teapot.placed(1.0, Vec3::new(5.0, 0.3, 5.0)));
     Built {
         tris,
         views: vec![
