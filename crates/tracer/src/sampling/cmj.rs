@@ -136,6 +136,21 @@ impl Strata {
     /// Correlated multi-jittered sample `s` for the pattern `p`.
     #[inline]
     pub(crate) fn cmj(&self, s: u32, p: u32) -> (Real, Real) {
+        if self.n == 1 {
+            // One stratum: every permutation below gives 0 and every
+            // division is by 1, so the sample is its jitter, bit for bit.
+            // One sample per pixel asks for it once per dimension pair.
+            return (
+                randfloat(0, p.wrapping_mul(0x967a_889b)),
+                randfloat(0, p.wrapping_mul(0x368c_c8b7)),
+            );
+        }
+        self.stratified(s, p)
+    }
+
+    /// [`Strata::cmj`] through the strata, for any `n`.
+    #[inline]
+    fn stratified(&self, s: u32, p: u32) -> (Real, Real) {
         let (n, m, rows) = (self.n, self.m, self.rows);
         debug_assert!(s < n);
         let s = permute(s, n, p.wrapping_mul(0x5163_3e2d));
@@ -161,6 +176,16 @@ pub(crate) const ONE_MINUS_ULP: Real = 1.0 - Real::EPSILON / 2.0;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn one_sample_is_the_stratified_sample() {
+        let one = Strata::new(1);
+        for p in (0..2000u32).map(|k| k.wrapping_mul(0x9e37_79b9)) {
+            let (fast, slow) = (one.cmj(0, p), one.stratified(0, p));
+            assert_eq!(fast.0.to_bits(), slow.0.to_bits(), "p = {p}");
+            assert_eq!(fast.1.to_bits(), slow.1.to_bits(), "p = {p}");
+        }
+    }
 
     #[test]
     fn permute_is_a_permutation() {
