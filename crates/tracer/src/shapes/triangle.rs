@@ -107,6 +107,22 @@ impl Triangle {
         Lanes::from_slice(&self.c[3 * k..3 * k + 4])
     }
 
+    /// Which of `four` the ray of `shear` may hit
+    /// ([`Shear::triangles_may_hit`]): the prefilter of `closest_hits` and
+    /// `any_hits`. The coordinates are gathered written out, since
+    /// `array::map` can stay a call in the hot loop.
+    #[inline(always)]
+    fn may_hit_four(four: [&Self; 4], shear: &Shear) -> u32 {
+        shear.triangles_may_hit(|k| {
+            [
+                four[0].lanes(k),
+                four[1].lanes(k),
+                four[2].lanes(k),
+                four[3].lanes(k),
+            ]
+        })
+    }
+
     /// The watertight test of the ray whose frame is `shear`
     /// ([`Shear::new`] of the ray): `(t, u, v)` of a hit with `t > 0` in
     /// `[t_min, t_max]`.
@@ -340,13 +356,14 @@ impl Primitive for Triangle {
             t_max,
             Some(best),
             keep,
-            |four| shear.triangles_may_hit(|k| four.map(|t| t.lanes(k))),
+            |four| Self::may_hit_four(four, shear),
         );
     }
 
     /// Four triangles at a time, rejected by their edge functions in lanes
-    /// as in `closest_hits`.
-    #[inline]
+    /// as in `closest_hits`, and always inlined as it is: a shadow ray's
+    /// occupied cells would otherwise each cost a call.
+    #[inline(always)]
     fn any_hits(
         prims: &[Self],
         shared: &(),
@@ -357,7 +374,7 @@ impl Primitive for Triangle {
         t_max: Real,
     ) -> bool {
         any_hits_prefiltered(prims, shared, refs, ray, shear, t_min, t_max, |four| {
-            shear.triangles_may_hit(|k| four.map(|t| t.lanes(k)))
+            Self::may_hit_four(four, shear)
         })
     }
 
