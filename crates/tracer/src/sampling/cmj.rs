@@ -140,10 +140,7 @@ impl Strata {
             // One stratum: every permutation below gives 0 and every
             // division is by 1, so the sample is its jitter, bit for bit.
             // One sample per pixel asks for it once per dimension pair.
-            return (
-                randfloat(0, p.wrapping_mul(0x967a_889b)),
-                randfloat(0, p.wrapping_mul(0x368c_c8b7)),
-            );
+            return jitter(0, p);
         }
         self.stratified(s, p)
     }
@@ -161,13 +158,22 @@ impl Strata {
         };
         let sx = permute(col, m, p.wrapping_mul(0x68bc_21eb));
         let sy = permute(row, rows, p.wrapping_mul(0x02e5_be93));
-        let jx = randfloat(s, p.wrapping_mul(0x967a_889b));
-        let jy = randfloat(s, p.wrapping_mul(0x368c_c8b7));
+        let (jx, jy) = jitter(s, p);
         let x = self.div(sx as Real + self.div(sy as Real + jx, 2), 1);
         let y = self.div(s as Real + jy, 0);
         // Rounding can reach 1.0 in the last stratum; stay inside the pixel.
         (x.min(ONE_MINUS_ULP), y.min(ONE_MINUS_ULP))
     }
+}
+
+/// The jitter of (permuted) sample `s` for the pattern `p` inside its
+/// stratum, in `[0, 1)²`.
+#[inline]
+fn jitter(s: u32, p: u32) -> (Real, Real) {
+    (
+        randfloat(s, p.wrapping_mul(0x967a_889b)),
+        randfloat(s, p.wrapping_mul(0x368c_c8b7)),
+    )
 }
 
 /// The largest [`Real`] below 1.
@@ -208,8 +214,7 @@ mod tests {
         let s = permute(s, n, p.wrapping_mul(0x5163_3e2d));
         let sx = permute(s % m, m, p.wrapping_mul(0x68bc_21eb));
         let sy = permute(s / m, rows, p.wrapping_mul(0x02e5_be93));
-        let jx = randfloat(s, p.wrapping_mul(0x967a_889b));
-        let jy = randfloat(s, p.wrapping_mul(0x368c_c8b7));
+        let (jx, jy) = jitter(s, p);
         let x = (sx as Real + (sy as Real + jx) / rows as Real) / m as Real;
         let y = (s as Real + jy) / n as Real;
         (x.min(ONE_MINUS_ULP), y.min(ONE_MINUS_ULP))
