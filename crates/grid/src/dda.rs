@@ -195,10 +195,26 @@ impl<'g> Dda<'g> {
     /// sign of the zero.
     #[inline(always)]
     pub(crate) fn new(g: &'g Geom, ray: &Ray, t_min: Real, t_max: Real) -> Option<Self> {
+        Self::new_then(g, ray, t_min, t_max, || ())
+    }
+
+    /// [`Dda::new`], calling `entered` once the ray is known to cross the
+    /// grid's box, before the set-up reads the grid's planes: where a
+    /// nested grid prefetches its arrays, so that the rays that miss its
+    /// box (most, in a sparse scene) do not.
+    #[inline(always)]
+    pub(crate) fn new_then(
+        g: &'g Geom,
+        ray: &Ray,
+        t_min: Real,
+        t_max: Real,
+        entered: impl FnOnce(),
+    ) -> Option<Self> {
         if g.is_empty() || !(t_min <= t_max) {
             return None;
         }
         let (t0, t1) = g.entry.hit_with(g.slab, ray, t_min, t_max)?;
+        entered();
         // Built in locals and assembled at the end, so that the walk's
         // state is written once into the caller's slot, not copied there.
         let base = [g.walk[0].as_ptr(), g.walk[1].as_ptr(), g.walk[2].as_ptr()];

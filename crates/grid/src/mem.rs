@@ -97,8 +97,10 @@ pub(crate) const LINE_BYTES: usize = 64;
 pub(crate) fn prefetch_head<T>(xs: &[T], bytes: usize) {
     let end = std::mem::size_of_val(xs).min(bytes);
     let start = xs.as_ptr().cast::<u8>();
-    for at in (0..end).step_by(LINE_BYTES) {
+    let mut at = 0;
+    while at < end {
         prefetch_ptr(start.wrapping_add(at));
+        at += LINE_BYTES;
     }
 }
 

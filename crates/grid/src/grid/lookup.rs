@@ -35,8 +35,9 @@ const PREFETCH_BYTES: usize = 4 * crate::mem::LINE_BYTES;
 
 impl Sub {
     /// Asks for the start of the arrays a walk of this nested grid reads
-    /// (its planes, occupancy bits, table and references), before the
-    /// walk's set-up, which needs the planes, then the bits, then the
+    /// (its planes, occupancy bits, table and references), once a ray is
+    /// known to enter its box ([`crate::dda::Dda::new_then`]) and before
+    /// the walk's set-up, which needs the planes, then the bits, then the
     /// table, each found only when the one before has arrived: for a ray
     /// whose nested grid is not in the cache (one bouncing off a large
     /// mesh), those misses overlap instead of following one another.

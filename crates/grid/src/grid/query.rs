@@ -114,11 +114,11 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
         let Some(sub) = sub.for_ray(self.ray) else {
             return self.test_refs(refs);
         };
-        sub.prefetch();
         if !sub.direct.is_empty() {
             self.test_refs(&sub.direct);
         }
-        let Some(dda) = Dda::new(&sub.geom, self.ray, self.t_min, self.t_lim) else {
+        let entered = || sub.prefetch();
+        let Some(dda) = Dda::new_then(&sub.geom, self.ray, self.t_min, self.t_lim, entered) else {
             return;
         };
         let lookup = sub.lookup();
@@ -285,9 +285,9 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
         let Some(sub) = sub.for_ray(self.ray) else {
             return self.test_refs(refs);
         };
-        sub.prefetch();
         self.test_refs(&sub.direct)?;
-        let Some(dda) = Dda::new(&sub.geom, self.ray, self.t_min, self.t_max) else {
+        let entered = || sub.prefetch();
+        let Some(dda) = Dda::new_then(&sub.geom, self.ray, self.t_min, self.t_max, entered) else {
             return ControlFlow::Continue(());
         };
         let lookup = sub.lookup();
