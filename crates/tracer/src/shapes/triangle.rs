@@ -297,6 +297,25 @@ fn hit_from_edges(x: Lanes, y: Lanes, z: Lanes, sz: Real, e: Lanes) -> Option<(R
     ))
 }
 
+/// Asks the CPU for the triangles in slots `refs[4..]` of `prims` (both
+/// ends of each, which may lie in two cache lines), before a cell's
+/// triangles are tested four by four.
+///
+/// A group's test waits on its four triangles; tested in turn, a cell whose
+/// triangles are not in the nearest caches (as for rays that bounce off a
+/// mesh) pays those waits one group after the other. Asked for all at
+/// once, the loads overlap. The first four are left out: their test starts
+/// at once.
+#[inline(always)]
+fn prefetch_cell(prims: &[Triangle], refs: &[u32]) {
+    for &r in refs.get(4..).unwrap_or_default() {
+        // A prefetch never faults: the address need not be valid.
+        let first = prims.as_ptr().wrapping_add(r as usize).cast::<u8>();
+        gridrt_grid::mem::prefetch_ptr(first);
+        gridrt_grid::mem::prefetch_ptr(first.wrapping_add(std::mem::size_of::<Triangle>() - 1));
+    }
+}
+
 impl Primitive for Triangle {
     /// Nothing shared: the primitive holds all it needs.
     type Shared = ();
@@ -346,6 +365,7 @@ impl Primitive for Triangle {
         best: u32,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
+        prefetch_cell(prims, refs);
         closest_hits_prefiltered(
             prims,
             shared,
@@ -373,6 +393,7 @@ impl Primitive for Triangle {
         t_min: Real,
         t_max: Real,
     ) -> bool {
+        prefetch_cell(prims, refs);
         any_hits_prefiltered(prims, shared, refs, ray, shear, t_min, t_max, |four| {
             Self::may_hit_four(four, shear)
         })
