@@ -104,6 +104,26 @@ pub(crate) fn prefetch_head<T>(xs: &[T], bytes: usize) {
     }
 }
 
+/// Prefetches elements `at` of `xs`, both ends of each (an element may
+/// straddle two cache lines): for elements about to be read by index, such
+/// as the primitives a grid cell refers to. Indices past the end are
+/// harmless: a prefetch never faults.
+///
+/// ```
+/// let tris = vec![[0.25f32; 10]; 100];
+/// gridrt_grid::mem::prefetch_elements(&tris, &[3, 50, 1000]);
+/// assert_eq!(tris[50][9], 0.25);
+/// ```
+#[inline(always)]
+pub fn prefetch_elements<T>(xs: &[T], at: &[u32]) {
+    let last = std::mem::size_of::<T>().saturating_sub(1);
+    for &i in at {
+        let first = xs.as_ptr().wrapping_add(i as usize).cast::<u8>();
+        prefetch_ptr(first);
+        prefetch_ptr(first.wrapping_add(last));
+    }
+}
+
 /// Asks the CPU to bring the cache line holding `x` closer, ahead of a
 /// read (on x86-64; elsewhere nothing happens). A hint: no visible effect.
 /// The grid uses it when it gathers primitives; a renderer can use it for

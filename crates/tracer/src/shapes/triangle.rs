@@ -297,9 +297,8 @@ fn hit_from_edges(x: Lanes, y: Lanes, z: Lanes, sz: Real, e: Lanes) -> Option<(R
     ))
 }
 
-/// Asks the CPU for the triangles in slots `refs[4..]` of `prims` (both
-/// ends of each, which may lie in two cache lines), before a cell's
-/// triangles are tested four by four.
+/// Asks the CPU for the triangles in slots `refs[4..]` of `prims`, before
+/// a cell's triangles are tested four by four.
 ///
 /// A group's test waits on its four triangles; tested in turn, a cell whose
 /// triangles are not in the nearest caches (as for rays that bounce off a
@@ -308,12 +307,7 @@ fn hit_from_edges(x: Lanes, y: Lanes, z: Lanes, sz: Real, e: Lanes) -> Option<(R
 /// at once.
 #[inline(always)]
 fn prefetch_cell(prims: &[Triangle], refs: &[u32]) {
-    for &r in refs.get(4..).unwrap_or_default() {
-        // A prefetch never faults: the address need not be valid.
-        let first = prims.as_ptr().wrapping_add(r as usize).cast::<u8>();
-        gridrt_grid::mem::prefetch_ptr(first);
-        gridrt_grid::mem::prefetch_ptr(first.wrapping_add(std::mem::size_of::<Triangle>() - 1));
-    }
+    gridrt_grid::mem::prefetch_elements(prims, refs.get(4..).unwrap_or_default());
 }
 
 impl Primitive for Triangle {
