@@ -118,6 +118,12 @@ pub struct GridConfig {
     /// `0·∞ = NaN`). The textbook test is there to measure what the robust
     /// one costs.
     pub slab: SlabTest,
+    /// Keep the boxes of groups of four references in the flat grid's
+    /// cells of at least 12 without a nested grid (sorted along a Morton
+    /// curve first), so that a ray tests only the groups it meets (the
+    /// default; the crate README measures it). Within the memory budget:
+    /// a grid that would exceed it keeps none.
+    pub cell_groups: bool,
 }
 
 /// The `nest_min_refs` of the hierarchy that nests every crowded cell
@@ -194,6 +200,9 @@ pub struct GridStats {
     /// references each level holds, which shows where the hierarchy stopped
     /// separating the primitives.
     pub levels: Vec<NestLevel>,
+    /// Cells of the flat grid whose references are tested by groups of
+    /// four with a box each ([`GridConfig::cell_groups`]).
+    pub grouped_cells: u64,
     /// The `nest_min_refs` the build used (given, or with
     /// [`GridConfig::auto`] the cost model's [`crate::cost::min_refs`];
     /// 0: no nesting).
@@ -244,6 +253,7 @@ impl Default for GridConfig {
             auto: true,
             memory_budget: None,
             slab: SlabTest::Robust,
+            cell_groups: true,
         }
     }
 }

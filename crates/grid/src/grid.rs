@@ -6,6 +6,7 @@ use crate::counters::{Counters, NoCounters};
 use crate::dda::{BlockMap, CellFn, CellIter, CellLookup, CellVisit, Dda};
 use crate::empty_space;
 use crate::geom::{self, Geom};
+use crate::groups::{Groups, GROUP_MIN_REFS};
 use crate::nested::{NestParams, Nested};
 use crate::{morton, Accelerator, CellStorage, GridConfig, GridStats, Hit, Primitive};
 use gridrt_bbox::{Aabb, Ray, Real};
@@ -81,6 +82,8 @@ pub struct Grid<P: Primitive> {
     far: Box<[u8]>,
     /// The nested grids of crowded cells.
     nested: Nested,
+    /// The group boxes of the other crowded cells ([`crate::groups`]).
+    groups: Groups,
     stats: GridStats,
 }
 
@@ -272,6 +275,7 @@ impl<P: Primitive> Grid<P> {
             occ: Box::new([]),
             far: Box::new([]),
             nested: Nested::default(),
+            groups: Groups::default(),
             stats: GridStats::default(),
         };
         grid.blocks = grid.block_map();
@@ -297,6 +301,9 @@ impl<P: Primitive> Grid<P> {
             &params,
         );
         grid.nested = nested;
+        if config.cell_groups {
+            grid.groups = grid.group_boxes(budget);
+        }
         grid.direct =
             config.direct(n) && grid.geom.cell_count() == 1 && grid.nested.subs.is_empty();
         let build_time = start.elapsed();
@@ -324,6 +331,7 @@ impl<P: Primitive> Grid<P> {
             nested_cells: grid.nested.subs.len() as u64,
             nest_levels: levels.len() as u32,
             levels,
+            grouped_cells: grid.groups.cells() as u64,
             nest_min_refs: if grid.nested.subs.is_empty() {
                 0
             } else {
@@ -339,6 +347,24 @@ impl<P: Primitive> Grid<P> {
     /// cell holding each primitive once, its maps and some slack.
     fn min_budget(n: usize) -> usize {
         16 * n + 4096
+    }
+
+    /// The group boxes of the cells of at least [`GROUP_MIN_REFS`]
+    /// references without a nested grid, when they fit in what `budget`
+    /// leaves (none otherwise).
+    fn group_boxes(&self, budget: usize) -> Groups {
+        let mut runs: Vec<(u32, u32)> = self
+            .runs(GROUP_MIN_REFS)
+            .into_iter()
+            .filter(|&(_, s, r)| self.nested.root.find(r.len(), s).is_none())
+            .map(|(_, s, r)| (s, r.len() as u32))
+            .collect();
+        runs.sort_unstable();
+        let bytes = Groups::bytes_for(self.refs.len(), &runs);
+        if self.index_bytes() + bytes > budget {
+            return Groups::default();
+        }
+        Groups::build(&self.prims, &self.shared, &self.refs, &runs, self.geom.pad)
     }
 
     /// Heap bytes of the grid's index: everything but the primitives.
@@ -363,6 +389,7 @@ impl<P: Primitive> Grid<P> {
             + spread
             + std::mem::size_of_val(&*self.unbounded)
             + std::mem::size_of_val(&*self.ids)
+            + self.groups.bytes()
             + self.nested.bytes()
     }
 
@@ -660,6 +687,7 @@ impl<P: Primitive> Grid<P> {
             ids: &self.ids,
             refs: &self.refs,
             children: &self.nested.root,
+            groups: Some(&self.groups),
             subs: &self.nested.subs,
             ray,
             data: &data,
@@ -750,6 +778,7 @@ impl<P: Primitive> Grid<P> {
             shared: &self.shared,
             refs: &self.refs,
             children: &self.nested.root,
+            groups: Some(&self.groups),
             subs: &self.nested.subs,
             ray,
             data: &data,

@@ -114,6 +114,7 @@ mod empty_space;
 mod exhaustive;
 mod geom;
 mod grid;
+mod groups;
 mod hash_table;
 pub mod mem;
 mod morton;

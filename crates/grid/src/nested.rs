@@ -236,7 +236,7 @@ pub(crate) struct Children {
 impl Children {
     /// The map of children starting at `starts` (ascending) in a grid of
     /// `refs` references, the first at arena index `base`.
-    fn new(refs: usize, starts: &[u32], base: usize, min_refs: usize) -> Self {
+    pub(crate) fn new(refs: usize, starts: &[u32], base: usize, min_refs: usize) -> Self {
         if starts.is_empty() {
             return Self::default();
         }
@@ -283,12 +283,12 @@ impl Children {
     }
 
     /// Heap bytes of a map over `refs` references.
-    fn bytes_for(refs: usize) -> usize {
+    pub(crate) fn bytes_for(refs: usize) -> usize {
         refs.div_ceil(64) * (8 + 4)
     }
 
     /// Heap bytes.
-    fn bytes(&self) -> usize {
+    pub(crate) fn bytes(&self) -> usize {
         std::mem::size_of_val(&*self.starts) + std::mem::size_of_val(&*self.rank)
     }
 }

@@ -11,8 +11,9 @@ use gridrt_grid::{CellStorage, Grid, GridConfig, Ray, Real, Vec3};
 use proptest::prelude::*;
 
 /// Automatic nesting, nesting from 2 and 8 references (dense and hashed),
-/// and a budget small enough to stop the recursion early; mailbox on and
-/// off for each.
+/// a budget small enough to stop the recursion early, and a coarse flat
+/// grid whose crowded cells test their references by groups; mailbox on
+/// and off for each.
 fn configs() -> Vec<GridConfig> {
     let mut v = Vec::new();
     for mailbox in [false, true] {
@@ -32,6 +33,13 @@ fn configs() -> Vec<GridConfig> {
             mailbox,
             nest_min_refs: 2,
             memory_budget: Some(24 << 10),
+            ..GridConfig::default()
+        });
+        // A coarse flat grid: crowded cells tested by groups with boxes.
+        v.push(GridConfig {
+            mailbox,
+            auto: false,
+            dims: Some([3, 3, 3]),
             ..GridConfig::default()
         });
     }

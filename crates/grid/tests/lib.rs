@@ -9,6 +9,7 @@ mod support;
 
 mod build;
 mod equivalence;
+mod groups;
 mod hard_cases;
 mod hierarchy;
 mod nested;

@@ -756,11 +756,14 @@ fn occupancy(g: &GridStats) -> f64 {
 }
 
 fn grid_line(g: &GridStats) -> String {
-    let nested = if g.nested_cells > 0 {
+    let mut nested = if g.nested_cells > 0 {
         format!(", {} with nested grids", g.nested_cells)
     } else {
         String::new()
     };
+    if g.grouped_cells > 0 {
+        nested += &format!(", {} with group boxes", g.grouped_cells);
+    }
     format!(
         "grid        {}×{}×{} = {} cells, {} occupied ({:.1}%{nested}), {} refs ({:.2} per occupied cell, max {}), {:.2} MiB\n",
         g.dims[0],

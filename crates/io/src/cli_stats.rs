@@ -86,6 +86,8 @@ pub(crate) struct GridJson {
     nest_min_refs: u32,
     /// The nested grids level by level ([`GridStats::levels`]).
     levels: Vec<LevelJson>,
+    /// Cells tested by groups of four with a box each.
+    grouped_cells: u64,
     budget: usize,
     bytes: usize,
 }
@@ -162,6 +164,7 @@ impl GridJson {
             nest_levels: g.nest_levels,
             nest_min_refs: g.nest_min_refs,
             levels: g.levels.iter().map(LevelJson::from).collect(),
+            grouped_cells: g.grouped_cells,
             budget: g.budget,
             bytes: g.bytes,
         }

@@ -145,6 +145,9 @@ impl<P: Primitive> Grid<P> {
             }
         }
         self.check_nested()?;
+        let runs_of: Vec<(u32, u32)> = runs.iter().map(|r| (r.2, r.3)).collect();
+        self.groups
+            .check(&self.prims, &self.shared, &self.refs, &runs_of, g.pad)?;
         // Expected (cell, primitive) pairs against the stored ones.
         let mut stored: Vec<([u32; 3], u32)> = Vec::with_capacity(self.refs.len());
         for &(_, idx, s, len) in &runs {

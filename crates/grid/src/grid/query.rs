@@ -4,6 +4,7 @@
 use super::EXIT_MARGIN;
 use crate::counters::Counters;
 use crate::dda::{CellFn, CellVisit, Dda};
+use crate::groups::{GroupBlock, Groups, RaySlabs};
 use crate::nested::{Children, Sub};
 use crate::{Hit, Primitive};
 use gridrt_bbox::{Ray, Real};
@@ -36,6 +37,9 @@ pub(super) struct Closest<'q, P: Primitive, C, const MB: bool> {
     pub(super) refs: &'q [u32],
     /// The walked grid's cells with nested grids.
     pub(super) children: &'q Children,
+    /// The walked grid's cells with group boxes (the flat grid's; nested
+    /// grids have none).
+    pub(super) groups: Option<&'q Groups>,
     /// Every nested grid.
     pub(super) subs: &'q [Sub],
     pub(super) ray: &'q Ray,
@@ -128,6 +132,7 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
             ids: self.ids,
             refs: &sub.refs,
             children: &sub.children,
+            groups: None,
             subs: self.subs,
             ray: self.ray,
             data: self.data,
@@ -152,10 +157,13 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for Closest<'_, P
         if refs.is_empty() {
             return ControlFlow::Continue(());
         }
-        if let Some(i) = self.children.find(refs.len(), run_start(self.refs, refs)) {
+        let start = run_start(self.refs, refs);
+        if let Some(i) = self.children.find(refs.len(), start) {
             // SAFETY: `Children::find` returns arena indices of `subs`
             // (checked by `check_invariants`).
             self.walk_sub(unsafe { self.subs.get_unchecked(i) }, refs);
+        } else if let Some(blocks) = self.groups.and_then(|g| g.of(refs.len(), start)) {
+            self.test_groups(blocks, refs);
         } else {
             self.test_refs(refs);
         }
@@ -173,6 +181,18 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for Closest<'_, P
 }
 
 impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
+    /// Tests the groups of a cell's `refs` whose boxes `blocks` the ray
+    /// meets before the best hit so far.
+    #[inline(always)]
+    fn test_groups(&mut self, blocks: &[GroupBlock], refs: &[u32]) {
+        let slabs = RaySlabs::new(self.ray);
+        let (t_min, t_lim) = (self.t_min, self.t_lim);
+        let _ = for_met_groups(blocks, refs, &slabs, t_min, t_lim, |group| {
+            self.test_refs(group);
+            ControlFlow::<(), Real>::Continue(self.t_lim)
+        });
+    }
+
     /// Tests the references of one cell.
     #[inline(always)]
     fn test_refs(&mut self, refs: &[u32]) {
@@ -205,6 +225,9 @@ pub(super) struct AnyHit<'q, P: Primitive, C, const MB: bool> {
     pub(super) refs: &'q [u32],
     /// The walked grid's cells with nested grids.
     pub(super) children: &'q Children,
+    /// The walked grid's cells with group boxes (the flat grid's; nested
+    /// grids have none).
+    pub(super) groups: Option<&'q Groups>,
     /// Every nested grid.
     pub(super) subs: &'q [Sub],
     pub(super) ray: &'q Ray,
@@ -226,9 +249,18 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for AnyHit<'_, P,
         if refs.is_empty() {
             return ControlFlow::Continue(());
         }
-        if let Some(i) = self.children.find(refs.len(), run_start(self.refs, refs)) {
+        let start = run_start(self.refs, refs);
+        if let Some(i) = self.children.find(refs.len(), start) {
             // SAFETY: as in the closest-hit query.
             return self.walk_sub(unsafe { self.subs.get_unchecked(i) }, refs);
+        }
+        if let Some(blocks) = self.groups.and_then(|g| g.of(refs.len(), start)) {
+            let slabs = RaySlabs::new(self.ray);
+            let (t_min, t_max) = (self.t_min, self.t_max);
+            return for_met_groups(blocks, refs, &slabs, t_min, t_max, |g| {
+                self.test_refs(g)?;
+                ControlFlow::Continue(t_max)
+            });
         }
         self.test_refs(refs)
     }
@@ -296,6 +328,7 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
             shared: self.shared,
             refs: &sub.refs,
             children: &sub.children,
+            groups: None,
             subs: self.subs,
             ray: self.ray,
             data: self.data,
@@ -307,4 +340,31 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
         };
         dda.walk(&lookup, &mut q)
     }
+}
+
+/// Calls `f` with each group of four of a cell's `refs` (the last may be
+/// shorter) whose box in `blocks` the ray of `slabs` meets within
+/// `[t_min, t_max]`, in order, until `f` breaks; `f` gives the range's new
+/// end, so a closer hit culls the blocks after it.
+#[inline(always)]
+fn for_met_groups<B>(
+    blocks: &[GroupBlock],
+    refs: &[u32],
+    slabs: &RaySlabs,
+    t_min: Real,
+    mut t_max: Real,
+    mut f: impl FnMut(&[u32]) -> ControlFlow<B, Real>,
+) -> ControlFlow<B> {
+    let groups = refs.len().div_ceil(4);
+    for (b, block) in blocks.iter().enumerate() {
+        let left = groups - 4 * b;
+        let valid = if left >= 4 { 0xf } else { (1u32 << left) - 1 };
+        let mut met = block.hit_mask(slabs, t_min, t_max) & valid;
+        while met != 0 {
+            let g = 4 * b + met.trailing_zeros() as usize;
+            met &= met - 1;
+            t_max = f(&refs[4 * g..(4 * g + 4).min(refs.len())])?;
+        }
+    }
+    ControlFlow::Continue(())
 }

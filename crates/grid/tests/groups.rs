@@ -1,0 +1,120 @@
+//! Crowded cells tested by groups of four references with a box each
+//! (`GridConfig::cell_groups`): the same answers as exhaustive, bit for
+//! bit, on a tessellated surface at the origin and far from it, with and
+//! without the mailbox, in dense and hashed cells; fewer tests per ray.
+
+use crate::support::prims::Triangle;
+use crate::support::scenes::Lcg;
+use crate::support::Checker;
+use gridrt_grid::{Accelerator, CellStorage, Grid, GridConfig, QueryCounters, Ray, Real, Vec3};
+
+/// A square of `n`×`n` quads, two triangles each, waved in y, `size`
+/// wide, its corner at `at`.
+fn wavy_sheet(n: u32, at: Vec3, size: Real) -> Vec<Triangle> {
+    let p = |i: u32, j: u32| {
+        let (x, z) = (i as Real / n as Real, j as Real / n as Real);
+        at + Vec3::new(x, 0.05 * (9.0 * x).sin() * (7.0 * z).cos(), z) * size
+    };
+    let mut sheet = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            sheet.push(Triangle::new(p(i, j), p(i + 1, j), p(i + 1, j + 1)));
+            sheet.push(Triangle::new(p(i, j), p(i + 1, j + 1), p(i, j + 1)));
+        }
+    }
+    sheet
+}
+
+/// Rays from above the sheet at its vertices and across it, some leaving
+/// it from points on it (as secondary rays do), some grazing it.
+fn rays(at: Vec3, size: Real, n: usize) -> Vec<Ray> {
+    let mut rng = Lcg::new(7);
+    (0..n)
+        .map(|k| {
+            let on = at + Vec3::new(rng.range(0.0, 1.0), 0.0, rng.range(0.0, 1.0)) * size;
+            let d = Vec3::new(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            );
+            match k % 3 {
+                0 => Ray::new(
+                    on + Vec3::new(0.1, 0.6, 0.2) * size,
+                    on - (on + Vec3::new(0.1, 0.6, 0.2) * size),
+                ),
+                1 => Ray::new(on, d),
+                _ => Ray::new(
+                    on - Vec3::new(d.x, 0.0, d.z) * size,
+                    Vec3::new(d.x, 0.001, d.z),
+                ),
+            }
+        })
+        .collect()
+}
+
+fn configs() -> Vec<GridConfig> {
+    let mut v = Vec::new();
+    for storage in [CellStorage::Dense, CellStorage::Hashed] {
+        for mailbox in [false, true] {
+            for m in [0.3, 0.75] {
+                v.push(GridConfig {
+                    storage,
+                    mailbox,
+                    m,
+                    auto: false,
+                    ..GridConfig::default()
+                });
+            }
+        }
+    }
+    v
+}
+
+#[test]
+fn grouped_cells_answer_as_exhaustive_at_every_offset() {
+    for offset in [0.0, 1e3, 1e5] {
+        let at = Vec3::new(offset, -offset * 0.5, offset * 0.25);
+        let sheet = wavy_sheet(40, at, 1.0);
+        let checker = Checker::new(sheet, &configs());
+        for g in &checker.grids {
+            assert!(g.stats().grouped_cells > 0, "no groups: {:?}", g.stats());
+        }
+        for ray in rays(at, 1.0, 1500) {
+            checker.check(&ray, 0.0, Real::INFINITY);
+            checker.check(&ray, 0.0, 0.7);
+        }
+    }
+}
+
+#[test]
+fn groups_cut_the_tests_per_ray_and_stay_in_the_budget() {
+    let sheet = wavy_sheet(60, Vec3::ZERO, 1.0);
+    let build = |cell_groups, memory_budget| {
+        let config = GridConfig {
+            m: 0.3,
+            auto: false,
+            cell_groups,
+            memory_budget,
+            ..GridConfig::default()
+        };
+        Grid::build(sheet.clone(), &config)
+    };
+    let tests = |g: &Grid<Triangle>| {
+        let mut c = QueryCounters::default();
+        let mut s = g.scratch();
+        for ray in rays(Vec3::ZERO, 1.0, 3000) {
+            g.closest_hit_counted(&ray, 0.0, Real::INFINITY, &mut s, &mut c);
+        }
+        c.tests
+    };
+    let (with, without) = (build(true, None), build(false, None));
+    assert_eq!(without.stats().grouped_cells, 0);
+    assert!(with.stats().grouped_cells > 0);
+    assert!(with.stats().bytes > without.stats().bytes);
+    let (tw, tn) = (tests(&with), tests(&without));
+    assert!(2 * tw < tn, "with groups {tw} tests, without {tn}");
+    // A budget that the flat grid fills leaves no room for groups.
+    let tight = build(true, Some(without.stats().bytes));
+    assert_eq!(tight.stats().grouped_cells, 0);
+    assert!(tight.stats().bytes <= without.stats().bytes);
+}
