@@ -4,26 +4,9 @@
 //! without the mailbox, in dense and hashed cells; fewer tests per ray.
 
 use crate::support::prims::Triangle;
-use crate::support::scenes::Lcg;
+use crate::support::scenes::{wavy_sheet, Lcg};
 use crate::support::Checker;
 use gridrt_grid::{Accelerator, CellStorage, Grid, GridConfig, QueryCounters, Ray, Real, Vec3};
-
-/// A square of `n`×`n` quads, two triangles each, waved in y, `size`
-/// wide, its corner at `at`.
-fn wavy_sheet(n: u32, at: Vec3, size: Real) -> Vec<Triangle> {
-    let p = |i: u32, j: u32| {
-        let (x, z) = (i as Real / n as Real, j as Real / n as Real);
-        at + Vec3::new(x, 0.05 * (9.0 * x).sin() * (7.0 * z).cos(), z) * size
-    };
-    let mut sheet = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            sheet.push(Triangle::new(p(i, j), p(i + 1, j), p(i + 1, j + 1)));
-            sheet.push(Triangle::new(p(i, j), p(i + 1, j + 1), p(i, j + 1)));
-        }
-    }
-    sheet
-}
 
 /// Rays from above the sheet at its vertices and across it, some leaving
 /// it from points on it (as secondary rays do), some grazing it.

@@ -5,7 +5,7 @@
 //! memory budget never exceeded, whatever the settings.
 
 use crate::support::prims::{Sphere, Triangle};
-use crate::support::scenes::suffern_spheres;
+use crate::support::scenes::{suffern_spheres, wavy_sheet};
 use crate::support::Checker;
 use gridrt_grid::{CellStorage, Grid, GridConfig, Ray, Real, Vec3};
 use proptest::prelude::*;
@@ -412,29 +412,13 @@ fn a_fan_of_4000_triangles_never_costs_more_than_exhaustive() {
     }
 }
 
-/// A unit square of `n`×`n` quads, two triangles each, waved in y.
-fn wavy_sheet(n: u32) -> Vec<Triangle> {
-    let at = |i: u32, j: u32| {
-        let (x, z) = (i as Real / n as Real, j as Real / n as Real);
-        Vec3::new(x, 0.05 * (9.0 * x).sin() * (7.0 * z).cos(), z)
-    };
-    let mut sheet = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            sheet.push(Triangle::new(at(i, j), at(i + 1, j), at(i + 1, j + 1)));
-            sheet.push(Triangle::new(at(i, j), at(i + 1, j + 1), at(i, j + 1)));
-        }
-    }
-    sheet
-}
-
 /// A finely tessellated wavy sheet in a large room crowds thousands of
 /// cells, whose references are many times one batch of nested-grid plans:
 /// the batches build the same valid grids whatever the threads, and a
 /// budget that runs out part way through a level is kept.
 #[test]
 fn a_surface_crowding_many_cells_nests_the_same_in_batches() {
-    let mut scene = wavy_sheet(300);
+    let mut scene = wavy_sheet(300, Vec3::ZERO, 1.0);
     for k in [-1.0 as Real, 1.0] {
         let p = Vec3::splat(1.5 * k);
         scene.push(Triangle::new(p, p + Vec3::X, p + Vec3::Y));
@@ -486,7 +470,7 @@ fn a_surface_crowding_many_cells_nests_the_same_in_batches() {
 /// goes deeper than the unlimited build.
 #[test]
 fn a_larger_budget_never_nests_fewer_cells() {
-    let mut scene = wavy_sheet(100);
+    let mut scene = wavy_sheet(100, Vec3::ZERO, 1.0);
     let p = Vec3::splat(20.0);
     scene.push(Triangle::new(p, p + Vec3::X, p + Vec3::Y));
     let config = |memory_budget| GridConfig {
@@ -524,7 +508,7 @@ fn a_larger_budget_never_nests_fewer_cells() {
 /// 2,000-unit room: a floor under it and two walls.
 fn sheet_in_a_room(size: Real) -> Vec<Triangle> {
     let centre = Vec3::new(0.5, 0.0, 0.5);
-    let mut scene: Vec<Triangle> = wavy_sheet(60)
+    let mut scene: Vec<Triangle> = wavy_sheet(60, Vec3::ZERO, 1.0)
         .iter()
         .map(|t| {
             let [a, b, c] = t.vertices().map(|v| (v - centre) * size);
