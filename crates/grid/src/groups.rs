@@ -7,9 +7,9 @@
 //! boxes' centres (before the slots are numbered, so that a group's
 //! primitives also lie side by side), cuts the run into groups of four and
 //! keeps each group's box, widened by the grid's insertion pad; a query
-//! tests the ray against
-//! four group boxes at once and tests the references of the groups it
-//! meets within the query's range, which shrinks to the best hit so far.
+//! tests the ray against four group boxes at once and tests the references
+//! of the groups it meets within the query's range, which shrinks to the
+//! best hit so far.
 //!
 //! The boxes keep the grid exact for the same reason its cells do: a
 //! primitive reports its hit at a point inside its box up to rounding that
@@ -24,11 +24,12 @@ use gridrt_bbox::math::Lanes;
 use gridrt_bbox::{gamma, Aabb, Ray, Real};
 
 /// Cells with fewer references test them all: with fewer than three
-/// groups, the boxes cost about what they save.
+/// groups, the boxes could save a group test or two at most.
 pub(crate) const GROUP_MIN_REFS: usize = 12;
 
 /// The boxes of four consecutive groups, coordinate by coordinate (lane
-/// `g` is group `g`). Lanes past a cell's last group hold an empty box.
+/// `g` is group `g`). Lanes past a cell's last group hold an empty box,
+/// and the query masks them out.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct GroupBlock {
     lo: [Lanes; 3],
