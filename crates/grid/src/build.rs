@@ -287,7 +287,7 @@ fn build_cells<P: Primitive>(
         )
     }?;
     if config.cell_groups {
-        crate::groups::sort_crowded_runs(prims, shared, &out.0, &mut out.1);
+        crate::groups::sort_crowded_runs(prims, shared, &out.0, g.dims, &mut out.1);
     }
     let ids = first_seen(&mut out.1, prims.len());
     Some((out, ids))

@@ -14,6 +14,36 @@ pub(crate) enum Cells {
     Hashed { table: CellTable },
 }
 
+impl Cells {
+    /// The occupied cells of a grid with `dims` cells per axis that hold
+    /// at least `min` references (none for 0): each cell's index, and
+    /// where its run starts among the references and how long it is, in
+    /// storage order.
+    pub(crate) fn runs(&self, dims: [u32; 3], min: usize) -> Vec<([u32; 3], u32, u32)> {
+        match self {
+            _ if min == 0 => Vec::new(),
+            Cells::Empty => Vec::new(),
+            Cells::Dense { offsets } => {
+                let [nx, ny, _] = dims;
+                offsets
+                    .windows(2)
+                    .enumerate()
+                    .filter(|(_, w)| (w[1] - w[0]) as usize >= min)
+                    .map(|(c, w)| {
+                        let c = c as u32;
+                        ([c % nx, (c / nx) % ny, c / (nx * ny)], w[0], w[1] - w[0])
+                    })
+                    .collect()
+            }
+            Cells::Hashed { table } => table
+                .occupied()
+                .filter(|s| s.len as usize >= min)
+                .map(|s| (crate::morton::decode3(s.key), s.start, s.len))
+                .collect(),
+        }
+    }
+}
+
 /// What a cell-table build returns: the cells, the references, the Morton
 /// spread tables (hashed storage), the occupied cell count and the most
 /// references in one cell.

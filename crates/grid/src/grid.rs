@@ -354,10 +354,11 @@ impl<P: Primitive> Grid<P> {
     /// leaves (none otherwise).
     fn group_boxes(&self, budget: usize) -> Groups {
         let mut runs: Vec<(u32, u32)> = self
-            .runs(GROUP_MIN_REFS)
+            .cells
+            .runs(self.geom.dims, GROUP_MIN_REFS)
             .into_iter()
-            .filter(|&(_, s, r)| self.nested.root.find(r.len(), s).is_none())
-            .map(|(_, s, r)| (s, r.len() as u32))
+            .filter(|&(_, s, len)| self.nested.root.find(len as usize, s).is_none())
+            .map(|(_, s, len)| (s, len))
             .collect();
         runs.sort_unstable();
         let bytes = Groups::bytes_for(self.refs.len(), &runs);
@@ -513,40 +514,11 @@ impl<P: Primitive> Grid<P> {
     /// The occupied cells with at least `min` references (none for 0): each
     /// cell's index, where its run starts among the references, and the run.
     fn runs(&self, min: usize) -> Vec<([u32; 3], u32, &[u32])> {
-        let run = |s: u32, e: u32| &self.refs[s as usize..e as usize];
-        match &self.cells {
-            _ if min == 0 => Vec::new(),
-            Cells::Empty => Vec::new(),
-            Cells::Dense { offsets } => {
-                let [nx, ny, _] = self.geom.dims;
-                let keep = |(_, w): &(usize, &[u32])| (w[1] - w[0]) as usize >= min;
-                let cell = |(c, w): (usize, &[u32])| {
-                    let c = c as u32;
-                    (
-                        [c % nx, (c / nx) % ny, c / (nx * ny)],
-                        w[0],
-                        run(w[0], w[1]),
-                    )
-                };
-                offsets
-                    .windows(2)
-                    .enumerate()
-                    .filter(keep)
-                    .map(cell)
-                    .collect()
-            }
-            Cells::Hashed { table } => table
-                .occupied()
-                .filter(|s| s.len as usize >= min)
-                .map(|s| {
-                    (
-                        morton::decode3(s.key),
-                        s.start,
-                        run(s.start, s.start + s.len),
-                    )
-                })
-                .collect(),
-        }
+        self.cells
+            .runs(self.geom.dims, min)
+            .into_iter()
+            .map(|(idx, s, len)| (idx, s, &self.refs[s as usize..(s + len) as usize]))
+            .collect()
     }
 
     /// Whether the queries take the two-level walk: when enough blocks are

@@ -238,32 +238,20 @@ pub(crate) fn sort_crowded_runs<P: Primitive>(
     prims: &[P],
     shared: &P::Shared,
     cells: &Cells,
+    dims: [u32; 3],
     refs: &mut [u32],
 ) {
-    let runs: Vec<(u32, u32)> = match cells {
-        Cells::Empty => Vec::new(),
-        Cells::Dense { offsets } => offsets
-            .windows(2)
-            .filter(|w| (w[1] - w[0]) as usize >= GROUP_MIN_REFS)
-            .map(|w| (w[0], w[1] - w[0]))
-            .collect(),
-        Cells::Hashed { table } => table
-            .occupied()
-            .filter(|s| s.len as usize >= GROUP_MIN_REFS)
-            .map(|s| (s.start, s.len))
-            .collect(),
-    };
-    let mut keyed = Vec::new();
-    for (start, len) in runs {
+    let (mut centres, mut keyed) = (Vec::new(), Vec::new());
+    for (_, start, len) in cells.runs(dims, GROUP_MIN_REFS) {
         let run = &mut refs[start as usize..(start + len) as usize];
-        let centre = |r: u32| {
+        centres.clear();
+        centres.extend(run.iter().map(|&r| {
             let b = prims[r as usize].bounds(shared);
             (b.min + b.max) * 0.5
-        };
-        let span = run.iter().fold(Aabb::EMPTY, |s, &r| {
-            let c = centre(r);
-            s.union(Aabb::new(c, c))
-        });
+        }));
+        let span = centres
+            .iter()
+            .fold(Aabb::EMPTY, |s, &c| s.union(Aabb::new(c, c)));
         let (lo, ext) = (span.min, span.extent());
         // 10 bits per axis of the run's own span.
         let q = |a: usize, c: Real| -> u32 {
@@ -274,10 +262,11 @@ pub(crate) fn sort_crowded_runs<P: Primitive>(
             }
         };
         keyed.clear();
-        keyed.extend(run.iter().map(|&r| {
-            let c = centre(r);
-            (morton::encode3(q(0, c.x), q(1, c.y), q(2, c.z)), r)
-        }));
+        keyed.extend(
+            run.iter()
+                .zip(&centres)
+                .map(|(&r, c)| (morton::encode3(q(0, c.x), q(1, c.y), q(2, c.z)), r)),
+        );
         keyed.sort_unstable();
         for (slot, &(_, r)) in run.iter_mut().zip(&keyed) {
             *slot = r;
