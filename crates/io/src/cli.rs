@@ -756,16 +756,16 @@ fn occupancy(g: &GridStats) -> f64 {
 }
 
 fn grid_line(g: &GridStats) -> String {
-    let mut nested = if g.nested_cells > 0 {
-        format!(", {} with nested grids", g.nested_cells)
-    } else {
-        String::new()
-    };
+    // What the occupied cells hold besides their references.
+    let mut kinds = String::new();
+    if g.nested_cells > 0 {
+        kinds += &format!(", {} with nested grids", g.nested_cells);
+    }
     if g.grouped_cells > 0 {
-        nested += &format!(", {} with group boxes", g.grouped_cells);
+        kinds += &format!(", {} with group boxes", g.grouped_cells);
     }
     format!(
-        "grid        {}×{}×{} = {} cells, {} occupied ({:.1}%{nested}), {} refs ({:.2} per occupied cell, max {}), {:.2} MiB\n",
+        "grid        {}×{}×{} = {} cells, {} occupied ({:.1}%{kinds}), {} refs ({:.2} per occupied cell, max {}), {:.2} MiB\n",
         g.dims[0],
         g.dims[1],
         g.dims[2],
