@@ -255,18 +255,25 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for AnyHit<'_, P,
             return self.walk_sub(unsafe { self.subs.get_unchecked(i) }, refs);
         }
         if let Some(blocks) = self.groups.and_then(|g| g.of(refs.len(), start)) {
-            let slabs = RaySlabs::new(self.ray);
-            let (t_min, t_max) = (self.t_min, self.t_max);
-            return for_met_groups(blocks, refs, &slabs, t_min, t_max, |g| {
-                self.test_refs(g)?;
-                ControlFlow::Continue(t_max)
-            });
+            return self.test_groups(blocks, refs);
         }
         self.test_refs(refs)
     }
 }
 
 impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
+    /// Tests the groups of a cell's `refs` whose boxes `blocks` the ray
+    /// meets within the range, until one is hit.
+    #[inline(always)]
+    fn test_groups(&mut self, blocks: &[GroupBlock], refs: &[u32]) -> ControlFlow<()> {
+        let slabs = RaySlabs::new(self.ray);
+        let (t_min, t_max) = (self.t_min, self.t_max);
+        for_met_groups(blocks, refs, &slabs, t_min, t_max, |group| {
+            self.test_refs(group)?;
+            ControlFlow::Continue(t_max)
+        })
+    }
+
     /// Tests references until one is hit.
     #[inline(always)]
     fn test_refs(&mut self, refs: &[u32]) -> ControlFlow<()> {
