@@ -2,7 +2,7 @@
 //! objects become, by kind, and the builder that collects them.
 
 use crate::scene::SphereSet;
-use crate::shapes::{MeshTriangle, MeshVertices, Shape, Sphere, Triangle};
+use crate::shapes::{is_collapsed, MeshTriangle, MeshVertices, Shape, Sphere, Triangle};
 use gridrt_bbox::Vec3;
 use std::sync::Arc;
 
@@ -60,21 +60,25 @@ impl Out {
     }
 
     /// Adds the triangle with vertices `v` of `positions` (whose indices
-    /// start at `first`, from [`Out::add_vertices`]), unless it has zero
-    /// area; returns whether it was added.
+    /// start at `first`, from [`Out::add_vertices`]), unless two of its
+    /// vertices are equal (no ray hits it: [`Triangle::is_collapsed`]); returns
+    /// whether it was added. Other zero-area triangles stay: they close
+    /// cracks the shear's rounding opens between their neighbours.
     pub(super) fn push_triangle(&mut self, positions: &[Vec3], first: u32, v: [u32; 3]) -> bool {
-        let copy = || {
-            let [a, b, c] = v.map(|k| positions[k as usize]);
-            Some(Triangle::new(a, b, c)).filter(|t| !t.is_degenerate())
-        };
-        match self {
-            Out::Triangles(all) => copy().map(|t| all.push(t)).is_some(),
-            Out::Shapes(all) => copy().map(|t| all.push(Shape::from(t))).is_some(),
-            Out::Mesh(verts, all) => MeshTriangle::new(verts, v.map(|k| k + first))
-                .filter(|t| !t.is_degenerate())
-                .map(|t| all.push(t))
-                .is_some(),
+        let p = v.map(|k| positions[k as usize]);
+        if is_collapsed(p) {
+            return false;
         }
+        let copy = || Triangle::new(p[0], p[1], p[2]);
+        match self {
+            Out::Triangles(all) => all.push(copy()),
+            Out::Shapes(all) => all.push(Shape::from(copy())),
+            Out::Mesh(verts, all) => match MeshTriangle::new(verts, v.map(|k| k + first)) {
+                Some(t) => all.push(t),
+                None => return false,
+            },
+        }
+        true
     }
 
     /// Adds a shape; triangles so far become shapes if it is not one (the

@@ -42,7 +42,7 @@ impl MeshGrid {
         for (k, t) in mesh.triangles.iter().enumerate() {
             let p = t.map(|i| mesh.positions[i as usize]);
             let t = Triangle::new(p[0], p[1], p[2]);
-            if !t.is_degenerate() {
+            if !t.is_collapsed() {
                 tris.push(t);
                 tri.push(k as u32);
             }
@@ -178,12 +178,12 @@ impl Instance {
     /// mesh. Its error bound holds the object-space point's, carried
     /// through the map, plus the rounding of carrying a secondary ray's
     /// origin back into object space, so that rays leaving the point clear
-    /// the triangle there too.
+    /// the triangle there too. `ray` is the world-space ray that hit.
     #[inline]
-    pub(crate) fn surface_part(&self, h: &PrimHit) -> SurfacePoint {
+    pub(crate) fn surface_part(&self, h: &PrimHit, ray: &Ray) -> SurfacePoint {
         let m = &self.shared.mesh;
         let p = m.triangles[h.part as usize].map(|k| m.positions[k as usize]);
-        let obj = surface_point(p, h);
+        let obj = surface_point(p, h, &self.object_ray(ray));
         let (p, mut p_err) = self.to_world.point_with_error(obj.p, obj.p_err);
         let abs = |a: &Affine| Affine {
             cols: a.cols.map(Vec3::abs),
@@ -236,7 +236,7 @@ mod tests {
         assert!((h.t - 5.0).abs() < 1e-5, "{h:?}");
         // (11, 1) is (0.5, 0.5) in object space: the second triangle.
         assert_eq!(h.part, 0);
-        let sp = inst.surface_part(&h);
+        let sp = inst.surface_part(&h, &ray);
         assert!(
             (sp.p - Vec3::new(11.0, 1.0, -5.0)).abs().max_element()
                 <= sp.p_err.max_element() + 1e-5
@@ -261,7 +261,7 @@ mod tests {
         let h = inst
             .closest_hit(&(), &ray, &(), 0.0, Real::INFINITY)
             .unwrap();
-        let sp = inst.surface_part(&h);
+        let sp = inst.surface_part(&h, &ray);
         // The quad faced +z; mirrored in z its front faces −z.
         assert!((sp.n + Vec3::Z).length() < 1e-6, "{:?}", sp.n);
         assert_eq!(h.part, 0);

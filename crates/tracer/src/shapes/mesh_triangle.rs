@@ -1,7 +1,7 @@
 //! Triangles that refer to a shared vertex array: the grid primitive of
 //! meshes when memory matters more than the last few percent of speed.
 
-use super::triangle::{area_normal_f64, intersect_lanes, surface_point};
+use super::triangle::{intersect_lanes, surface_point};
 use super::{overlap, Shear, Surface, SurfacePoint};
 use gridrt_bbox::math::{LaneMat, Lanes};
 use gridrt_bbox::{Aabb, Ray, Real, Vec3};
@@ -128,8 +128,7 @@ impl MeshVertices {
         let mut kept = 0;
         for t in order {
             let t = &mut tris[t as usize];
-            let flag = t.v[0] & DEGENERATE;
-            let v = t.indices().map(|i| {
+            t.v = t.v.map(|i| {
                 let n = &mut new_of[i as usize];
                 if *n == u32::MAX {
                     *n = kept;
@@ -137,7 +136,6 @@ impl MeshVertices {
                 }
                 *n
             });
-            t.v = [v[0] | flag, v[1], v[2]];
         }
         // Swaps along the permutation's cycles: each swap puts one vertex
         // in its place for good; dropped vertices end up past the kept.
@@ -162,8 +160,7 @@ impl MeshVertices {
 /// Its ray test is the watertight test of [`Triangle`](super::Triangle),
 /// bit for bit: the vertices are gathered into the same lanes and go
 /// through the same operations, so a grid of mesh triangles answers
-/// exactly what a grid of their copies does. Zero-area triangles never
-/// hit; they are recognised once, when the triangle is made.
+/// exactly what a grid of their copies does.
 ///
 /// ```
 /// use gridrt_grid::{Accelerator, Grid, GridConfig, Ray, Real, Vec3};
@@ -178,18 +175,14 @@ impl MeshVertices {
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MeshTriangle {
-    /// The vertex indices; the top bit of the first is set when the
-    /// triangle has zero area.
+    /// The vertex indices.
     v: [u32; 3],
 }
 
-/// The bit of `MeshTriangle::v[0]` that marks a zero-area triangle.
-const DEGENERATE: u32 = 1 << 31;
-
 impl MeshTriangle {
-    /// The most vertices a mesh of them may have (one bit of the first
-    /// index marks zero-area triangles).
-    pub const MAX_VERTICES: usize = DEGENERATE as usize;
+    /// The most vertices a mesh of them may have (`u32::MAX` is kept for
+    /// "no vertex" in [`MeshVertices::renumber`]).
+    pub const MAX_VERTICES: usize = u32::MAX as usize;
 
     /// The triangle with vertices `v` of `verts`, or `None` if an index is
     /// out of range or the array has more than [`Self::MAX_VERTICES`].
@@ -197,11 +190,6 @@ impl MeshTriangle {
     pub fn new(verts: &MeshVertices, v: [u32; 3]) -> Option<Self> {
         if verts.len() > Self::MAX_VERTICES || v.iter().any(|&i| i as usize >= verts.len()) {
             return None;
-        }
-        let flat = area_normal_f64(v.map(|i| verts.get(i))) == glam::DVec3::ZERO;
-        let mut v = v;
-        if flat {
-            v[0] |= DEGENERATE;
         }
         Some(Self { v })
     }
@@ -217,7 +205,7 @@ impl MeshTriangle {
     #[inline]
     #[must_use]
     pub fn indices(&self) -> [u32; 3] {
-        [self.v[0] & !DEGENERATE, self.v[1], self.v[2]]
+        self.v
     }
 
     /// The vertices, from the array the triangle was made with.
@@ -235,18 +223,10 @@ impl MeshTriangle {
         super::Triangle::new(a, b, c)
     }
 
-    /// Whether the triangle has zero area (then it is never hit).
-    #[inline]
-    #[must_use]
-    pub fn is_degenerate(&self) -> bool {
-        self.v[0] & DEGENERATE != 0
-    }
-
     /// Vertex `i` (0, 1 or 2) as `(x, y, z, 0)`.
     #[inline(always)]
     fn vertex_lanes(&self, verts: &MeshVertices, i: usize) -> Lanes {
-        let mask = if i == 0 { !DEGENERATE } else { u32::MAX };
-        verts.lanes(self.v[i] & mask)
+        verts.lanes(self.v[i])
     }
 
     /// Which of `four` the ray of `shear` may hit
@@ -302,7 +282,7 @@ impl Primitive for MeshTriangle {
         ];
         let m = LaneMat::from_cols(a, b, c, Lanes::ZERO).transpose();
         let coords = [m.x_axis, m.y_axis, m.z_axis];
-        intersect_lanes(coords, self.is_degenerate(), shear, t_min, t_max)
+        intersect_lanes(coords, shear, t_min, t_max)
     }
 
     /// Four at a time, rejected by their edge functions in lanes as
@@ -363,8 +343,8 @@ impl Surface for MeshTriangle {
     /// [`Triangle`](super::Triangle)'s surface point, from the gathered
     /// vertices.
     #[inline]
-    fn surface(&self, verts: &MeshVertices, _: &Ray, h: &PrimHit) -> SurfacePoint {
-        surface_point(self.vertices(verts), h)
+    fn surface(&self, verts: &MeshVertices, ray: &Ray, h: &PrimHit) -> SurfacePoint {
+        surface_point(self.vertices(verts), h, ray)
     }
 
     #[inline]
@@ -392,21 +372,18 @@ mod tests {
         assert_eq!(v2.len(), 4);
         assert_eq!(tris[1].indices(), [0, 1, 2]);
         assert_eq!(tris[2].indices(), [3, 2, 3]);
-        assert!(tris[2].is_degenerate() && !tris[1].is_degenerate());
         for (t, b) in tris.iter().zip(&before) {
             assert_eq!(t.vertices(&v2), *b);
         }
     }
 
     #[test]
-    fn bad_indices_are_refused_and_flat_triangles_marked() {
+    fn bad_indices_are_refused() {
         let verts = MeshVertices::new([Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::X * 2.0]);
         assert_eq!(MeshTriangle::new(&verts, [0, 1, 4]), None);
         let flat = MeshTriangle::new(&verts, [0, 1, 3]).unwrap();
-        assert!(flat.is_degenerate());
         assert_eq!(flat.indices(), [0, 1, 3]);
         let ok = MeshTriangle::new(&verts, [0, 1, 2]).unwrap();
-        assert!(!ok.is_degenerate());
         assert_eq!(ok.vertices(&verts), [Vec3::ZERO, Vec3::X, Vec3::Y]);
     }
 

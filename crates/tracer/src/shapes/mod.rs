@@ -24,6 +24,7 @@ pub use mesh_triangle::{MeshTriangle, MeshVertices};
 pub use plane::Plane;
 pub use shear::{LazyShear, Shear};
 pub use sphere::{Sphere, SphereRay};
+pub(crate) use triangle::is_collapsed;
 pub use triangle::Triangle;
 pub use triangle_mt::{MtTriangle, MT_EPSILON};
 
@@ -230,7 +231,7 @@ impl Surface for Shape {
             Shape::Cuboid(c) => c.surface(&(), ray, h),
             Shape::Triangle(tr) => tr.surface(&(), ray, h),
             Shape::MtTriangle(tr) => tr.surface(&(), ray, h),
-            Shape::Instance(i) => i.surface_part(h),
+            Shape::Instance(i) => i.surface_part(h, ray),
         }
     }
 

@@ -13,8 +13,13 @@ use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primi
 /// ray through an edge or vertex shared by two triangles hits at least one
 /// of them, because both see the same edge function, bit for bit. When an
 /// edge function is exactly 0 in `f32`, it is recomputed in `f64`, where the
-/// products are exact, so its sign is right. Degenerate triangles (zero
-/// area) never hit and give no NaN.
+/// products are exact, so its sign is right. A triangle of zero area
+/// (collinear vertices) hits wherever the sheared test says it does: the
+/// shear's rounding can give it a sliver of area just where its neighbours'
+/// shared edges no longer meet, and rejecting it there would open a crack.
+/// Its normal then faces the ray from the side its sheared winding shows
+/// ([`Triangle::area_normal`] being zero). Only a triangle with two equal
+/// vertices never hits ([`Triangle::is_collapsed`]); none gives a NaN.
 ///
 /// The vertices are stored coordinate by coordinate (the three x, the
 /// three y, the three z), so that the test transforms all three vertices at
@@ -44,10 +49,8 @@ use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primi
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
-    /// `x0 x1 x2 y0 y1 y2 z0 z1 z2 d`: every coordinate's three values
-    /// start a 4-lane load; the last one's fourth lane, `d`, is 1 for a
-    /// degenerate triangle and 0 otherwise, so that a hit need not
-    /// recompute the area.
+    /// `x0 x1 x2 y0 y1 y2 z0 z1 z2 0`: every coordinate's three values
+    /// start a 4-lane load (the last one's fourth lane is padding).
     c: [Real; 10],
 }
 
@@ -56,13 +59,8 @@ impl Triangle {
     #[inline]
     #[must_use]
     pub fn new(p0: Vec3, p1: Vec3, p2: Vec3) -> Self {
-        let d = if area_normal_f64([p0, p1, p2]) == glam::DVec3::ZERO {
-            1.0
-        } else {
-            0.0
-        };
         Self {
-            c: [p0.x, p1.x, p2.x, p0.y, p1.y, p2.y, p0.z, p1.z, p2.z, d],
+            c: [p0.x, p1.x, p2.x, p0.y, p1.y, p2.y, p0.z, p1.z, p2.z, 0.0],
         }
     }
 
@@ -91,13 +89,23 @@ impl Triangle {
         area_normal(self.vertices())
     }
 
-    /// Whether the triangle has zero area (its vertices are collinear), in
-    /// which case it is never hit. Decided on the `f64` cross product, so
-    /// a sliver is not taken for degenerate.
-    #[inline]
+    /// Whether the triangle has zero area (its vertices are collinear).
+    /// Decided on the `f64` cross product, so a sliver is not taken for
+    /// degenerate. Such a triangle is still hit where the watertight test
+    /// says so (see the type's documentation).
     #[must_use]
     pub fn is_degenerate(&self) -> bool {
-        self.c[9] != 0.0
+        area_normal_f64(self.vertices()) == glam::DVec3::ZERO
+    }
+
+    /// Whether two of the vertices are equal, in which case no ray ever
+    /// hits the triangle: equal vertices shear to equal points, and the
+    /// edge functions of a triangle `(a, a, c)` are `e`, `−e` (rounded
+    /// alike) and exactly 0, so they either have both signs or sum to
+    /// zero. Leaving it out of an accelerator changes no answer.
+    #[must_use]
+    pub fn is_collapsed(&self) -> bool {
+        is_collapsed(self.vertices())
     }
 
     /// Coordinate `k` of the three vertices in lanes 0..3 (lane 3 is
@@ -129,14 +137,14 @@ impl Triangle {
     #[inline]
     #[must_use]
     pub fn intersect(&self, shear: &Shear, t_min: Real, t_max: Real) -> Option<PrimHit> {
-        intersect_lanes(
-            [0, 1, 2].map(|k| self.lanes(k)),
-            self.is_degenerate(),
-            shear,
-            t_min,
-            t_max,
-        )
+        intersect_lanes([0, 1, 2].map(|k| self.lanes(k)), shear, t_min, t_max)
     }
+}
+
+/// [`Triangle::is_collapsed`] of the vertices `p`.
+#[must_use]
+pub(crate) fn is_collapsed([p0, p1, p2]: [Vec3; 3]) -> bool {
+    p0 == p1 || p1 == p2 || p2 == p0
 }
 
 /// [`Triangle::area_normal`] of the triangle `p`.
@@ -157,19 +165,40 @@ pub(super) fn area_normal_f64(p: [Vec3; 3]) -> glam::DVec3 {
 
 /// The watertight test of a triangle given coordinate by coordinate
 /// (`c[k]` holds coordinate `k` of the three vertices in lanes 0..3; lane
-/// 3 is never used), which never hits when `degenerate`: the test of
-/// [`Triangle::intersect`], shared with the mesh triangles, which gather
-/// their vertices into the same lanes. Always inlined: left to the
-/// compiler, it stayed a call per full test in the grid's queries (while
-/// the exhaustive baseline inlined it).
+/// 3 is never used): the test of [`Triangle::intersect`], shared with the
+/// mesh triangles, which gather their vertices into the same lanes.
+/// Always inlined: left to the compiler, it stayed a call per full test in
+/// the grid's queries (while the exhaustive baseline inlined it).
 #[inline(always)]
 pub(super) fn intersect_lanes(
     c: [Lanes; 3],
-    degenerate: bool,
     shear: &Shear,
     t_min: Real,
     t_max: Real,
 ) -> Option<PrimHit> {
+    let (t, u, v, _) = sheared_hit(c, shear)?;
+    // Only `t > 0` and the caller's range: no rejection by an error bound
+    // on `t`. Such a bound (pbrt-v4 §6.8.4) grows with the triangle's
+    // extent over its projected area and, written with world-unit x, y
+    // beside t-unit z, with the inverse of the direction's length; it
+    // rejected true hits on slivers, on short directions and in small
+    // scenes, and those rays then fell through closed meshes. When every
+    // vertex lies ahead of the origin (all z > 0) the sum above has
+    // terms of one sign and `t > 0` (unless the products underflow), so no hit in front of the
+    // origin is lost; a surface the ray starts on is left by offsetting
+    // the origin (`offset_ray_origin`), not by an epsilon here.
+    if !(t > 0.0 && t >= t_min && t <= t_max) {
+        return None;
+    }
+    Some(PrimHit::new(t, u, v))
+}
+
+/// The sheared test of [`intersect_lanes`] before the range of `t`:
+/// `(t, u, v)` of the ray's crossing of the triangle's plane, and whether
+/// the ray sees the front (the vertices counter-clockwise), or `None` when
+/// the ray passes beside the triangle or sees it edge-on.
+#[inline(always)]
+fn sheared_hit(c: [Lanes; 3], shear: &Shear) -> Option<(Real, Real, Real, bool)> {
     use glam::Vec4Swizzles;
     // The vertices relative to the origin, permuted and sheared: lane i
     // of x, y, z is vertex i. z stays unscaled until a hit needs it.
@@ -192,32 +221,14 @@ pub(super) fn intersect_lanes(
     if any3(e.cmplt(Lanes::ZERO).bitmask()) && any3(e.cmpgt(Lanes::ZERO).bitmask()) {
         return None;
     }
-    let (t, u, v) = hit_from_edges(x, y, z, sz, e)?;
-    // Only `t > 0` and the caller's range: no rejection by an error bound
-    // on `t`. Such a bound (pbrt-v4 §6.8.4) grows with the triangle's
-    // extent over its projected area and, written with world-unit x, y
-    // beside t-unit z, with the inverse of the direction's length; it
-    // rejected true hits on slivers, on short directions and in small
-    // scenes, and those rays then fell through closed meshes. When every
-    // vertex lies ahead of the origin (all z > 0) the sum above has
-    // terms of one sign and `t > 0` (unless the products underflow), so no hit in front of the
-    // origin is lost; a surface the ray starts on is left by offsetting
-    // the origin (`offset_ray_origin`), not by an epsilon here.
-    if !(t > 0.0 && t >= t_min && t <= t_max) {
-        return None;
-    }
-    // A zero-area triangle can pass the sign test through rounding of
-    // the (nearly cancelling) edge functions; it never hits.
-    if degenerate {
-        return None;
-    }
-    Some(PrimHit::new(t, u, v))
+    hit_from_edges(x, y, z, sz, e)
 }
 
 /// `(t, u, v)` of a ray that passed the sign test, from the sheared
 /// vertices (`x`, `y`, and `z` before its scaling by `sz`) and their `f32`
-/// edge functions `e`, or `None` when the exact signs reject it after all
-/// or the triangle is seen edge-on.
+/// edge functions `e`, and whether the ray sees the front (the edge
+/// functions are positive: the frame keeps the winding), or `None` when
+/// the exact signs reject it after all or the triangle is seen edge-on.
 ///
 /// In `f32` the edge functions are evaluated again in `f64`, where the
 /// products of `f32` values are exact and each difference is rounded once:
@@ -230,7 +241,13 @@ pub(super) fn intersect_lanes(
 #[cfg(not(feature = "f64"))]
 #[inline]
 #[allow(clippy::cast_possible_truncation)] // the rounding to `f32` is the point
-fn hit_from_edges(x: Lanes, y: Lanes, z: Lanes, sz: Real, _e: Lanes) -> Option<(Real, Real, Real)> {
+fn hit_from_edges(
+    x: Lanes,
+    y: Lanes,
+    z: Lanes,
+    sz: Real,
+    _e: Lanes,
+) -> Option<(Real, Real, Real, bool)> {
     let [ax, bx, cx, _] = x.to_array().map(f64::from);
     let [ay, by, cy, _] = y.to_array().map(f64::from);
     let e = [cx * by - cy * bx, ax * cy - ay * cx, bx * ay - by * ax];
@@ -250,6 +267,7 @@ fn hit_from_edges(x: Lanes, y: Lanes, z: Lanes, sz: Real, _e: Lanes) -> Option<(
         t as Real,
         (e[1] * inv_det) as Real,
         (e[2] * inv_det) as Real,
+        det > 0.0,
     ))
 }
 
@@ -262,7 +280,13 @@ fn hit_from_edges(x: Lanes, y: Lanes, z: Lanes, sz: Real, _e: Lanes) -> Option<(
 /// passes the test far outside itself.
 #[cfg(feature = "f64")]
 #[inline]
-fn hit_from_edges(x: Lanes, y: Lanes, z: Lanes, sz: Real, e: Lanes) -> Option<(Real, Real, Real)> {
+fn hit_from_edges(
+    x: Lanes,
+    y: Lanes,
+    z: Lanes,
+    sz: Real,
+    e: Lanes,
+) -> Option<(Real, Real, Real, bool)> {
     let [mut e0, mut e1, mut e2, _] = e.to_array();
     if e0 == 0.0 || e1 == 0.0 || e2 == 0.0 {
         let [ax, bx, cx, _] = x.to_array();
@@ -294,6 +318,7 @@ fn hit_from_edges(x: Lanes, y: Lanes, z: Lanes, sz: Real, e: Lanes) -> Option<(R
         (e0 * az + e1 * bz + e2 * cz) * inv_det,
         e1 * inv_det,
         e2 * inv_det,
+        det > 0.0,
     ))
 }
 
@@ -404,8 +429,8 @@ impl Primitive for Triangle {
 
 impl Surface for Triangle {
     #[inline]
-    fn surface(&self, _: &(), _ray: &Ray, h: &PrimHit) -> SurfacePoint {
-        surface_point(self.vertices(), h)
+    fn surface(&self, _: &(), ray: &Ray, h: &PrimHit) -> SurfacePoint {
+        surface_point(self.vertices(), h, ray)
     }
 }
 
@@ -415,9 +440,11 @@ impl Surface for Triangle {
 /// triangle, not with its distance from the world origin) plus two
 /// ulps of the point's coordinates for the final additions. Far from
 /// the origin this is about a third of pbrt-v4's γ(7)·Σ|bᵢ·pᵢ|, so
-/// secondary rays start within the rounding of the geometry.
+/// secondary rays start within the rounding of the geometry. The normal
+/// is the unit [`Triangle::area_normal`], or [`facing_normal`] for the
+/// `ray` that hit when the area does not resolve.
 #[inline]
-pub(super) fn surface_point([p0, p1, p2]: [Vec3; 3], h: &PrimHit) -> SurfacePoint {
+pub(super) fn surface_point([p0, p1, p2]: [Vec3; 3], h: &PrimHit, ray: &Ray) -> SurfacePoint {
     let (u, v) = (h.u, h.v);
     let a = (p1 - p0) * u;
     let b = (p2 - p0) * v;
@@ -436,7 +463,27 @@ pub(super) fn surface_point([p0, p1, p2]: [Vec3; 3], h: &PrimHit) -> SurfacePoin
     SurfacePoint {
         p,
         p_err,
-        n: unit_or(area_normal([p0, p1, p2]), Vec3::Z),
+        n: area_normal([p0, p1, p2])
+            .try_normalize()
+            .unwrap_or_else(|| facing_normal([p0, p1, p2], ray)),
+    }
+}
+
+/// The normal of a triangle `p` whose area does not resolve (collinear
+/// vertices, or a cross product that underflows) at a hit of `ray`: along
+/// the ray, on the side the ray sees by the winding of the triangle's
+/// sheared projection, the only area it has. In a closed, consistently
+/// wound mesh such a triangle is hit only where the shear's rounding
+/// opened a crack between its neighbours, and its projection covers that
+/// crack with their winding, so the ray leaves or enters as it would
+/// through them.
+#[cold]
+fn facing_normal(p: [Vec3; 3], ray: &Ray) -> Vec3 {
+    let d = unit_or(ray.dir, Vec3::Z);
+    let c = [0, 1, 2].map(|k| Lanes::new(p[0][k], p[1][k], p[2][k], 0.0));
+    match sheared_hit(c, &Shear::new(ray)) {
+        Some((.., false)) => d,
+        _ => -d,
     }
 }
 
@@ -507,6 +554,7 @@ mod tests {
         let line = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::new(2.0, 0.0, 0.0));
         let point = Triangle::new(Vec3::ONE, Vec3::ONE, Vec3::ONE);
         assert!(line.is_degenerate() && point.is_degenerate());
+        assert!(point.is_collapsed() && !line.is_collapsed());
         for d in [
             [0.0, 0.0, -1.0],
             [0.0, -1.0, 0.0],
@@ -536,6 +584,70 @@ mod tests {
         assert!(tri
             .intersect(&frame([-1.0, 0.1, 0.0], [1.0, 0.0, 0.0]), 0.0, 10.0)
             .is_none());
+    }
+
+    #[test]
+    fn the_facing_normal_is_on_the_side_the_area_normal_gives() {
+        // Random triangles and rays from random origins through random
+        // points of them: the side the sheared winding shows is the side
+        // of the front normal, whatever the ray's axes and signs.
+        let mut s = 7u64;
+        let mut rnd = || {
+            s = s
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1442695040888963407);
+            (s >> 40) as Real / (1u64 << 24) as Real * 2.0 - 1.0
+        };
+        let mut seen = [0, 0];
+        for _ in 0..2000 {
+            let p = [(); 3].map(|()| Vec3::new(rnd(), rnd(), rnd()));
+            let n = area_normal(p);
+            let (a, b) = (rnd().abs(), rnd().abs());
+            let (a, b) = if a + b > 1.0 {
+                (1.0 - a, 1.0 - b)
+            } else {
+                (a, b)
+            };
+            let target = p[0] + (p[1] - p[0]) * a + (p[2] - p[0]) * b;
+            let origin = Vec3::new(rnd(), rnd(), rnd()) * 4.0;
+            let r = Ray::new(origin, target - origin);
+            if n.dot(r.dir).abs() < 1e-3 * n.length() * r.dir.length() {
+                continue; // nearly edge-on
+            }
+            let facing = facing_normal(p, &r);
+            assert!(facing.dot(n) > 0.0, "{p:?} {r:?}");
+            seen[usize::from(n.dot(r.dir) < 0.0)] += 1;
+        }
+        // Both sides were seen, often.
+        assert!(seen[0] > 500 && seen[1] > 500, "{seen:?}");
+    }
+
+    #[test]
+    fn a_zero_area_hit_gets_a_unit_normal_facing_the_ray() {
+        // Collinear vertices (exactly: steps of (3, 5, 7)/16 from a point
+        // far from the origin), seen from many directions: the shear's
+        // rounding gives the projection a sliver of area, and where the
+        // sheared test reports a hit, the normal is a unit vector along
+        // the ray.
+        let base = Vec3::new(-1000.0, 700.0, 300.0);
+        let step = Vec3::new(3.0, 5.0, 7.0) / 16.0;
+        let line = Triangle::new(base, base + step, base + step * 3.0);
+        assert!(line.is_degenerate() && !line.is_collapsed());
+        let mut hits = 0;
+        for k in 0..4000 {
+            let x = k as Real / 4000.0;
+            let dir = Vec3::new(0.3 + x, -1.0, 0.5 - x);
+            let target = base + step * (3.0 * x);
+            let r = Ray::new(target - dir * 7.0, dir);
+            if let Some(h) = line.closest_hit(&(), &r, &Shear::new(&r), 0.0, Real::INFINITY) {
+                hits += 1;
+                let n = line.surface(&(), &r, &h).n;
+                assert!((n.length() - 1.0).abs() < 1e-5, "{n}");
+                assert!(n.cross(r.dir).length() < 1e-5 * r.dir.length(), "{n} {r:?}");
+            }
+        }
+        // A few of the rays meet such a sliver (4 in `f32`, 2 in `f64`).
+        assert!(hits > 0);
     }
 
     #[test]
