@@ -312,3 +312,36 @@ fn grid_answers_are_unchanged_under_power_of_two_scaling() {
     }
     assert!(report.is_empty(), "{}", report.join("\n"));
 }
+
+/// T-junctions closed by zero-area triangles, far from the origin where
+/// the shear rounds: such a triangle has area only in the ray's frame, and
+/// it alone covers the crack between the edge `a`–`b` on one side and
+/// `a`–`m`–`b` on the other. Rejecting it (as a test that skips zero-area
+/// triangles does) leaks here.
+#[test]
+fn t_junctions_closed_by_zero_area_triangles_never_leak() {
+    let mesh = hard_meshes::with_t_junctions(&hard_meshes::lattice_ball(2));
+    let mut report = Vec::new();
+    for offset in [0.0, 1024.0, 131_072.0, -131_072.0] {
+        let tris = mesh.triangles(1.0, offset);
+        let ex = Exhaustive::new(tris.clone());
+        let grid = Grid::build(tris, &GridConfig::default());
+        let (mut se, mut sg) = (ex.scratch(), grid.scratch());
+        for len in [DirLength::Unit, DirLength::Short, DirLength::ToTarget] {
+            let rays = mesh.probe_rays(1.0, offset, len);
+            let (mut leaks, mut mismatches) = (0, 0);
+            for r in &rays {
+                let e = closest(&ex, r, &mut se);
+                leaks += usize::from(e.is_none());
+                mismatches += usize::from(closest(&grid, r, &mut sg) != e);
+            }
+            if leaks + mismatches > 0 {
+                report.push(format!(
+                    "offset {offset:e} {len:?}: {leaks} leaks, {mismatches} mismatches of {}",
+                    rays.len()
+                ));
+            }
+        }
+    }
+    assert!(report.is_empty(), "{report:#?}");
+}

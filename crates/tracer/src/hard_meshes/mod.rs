@@ -306,6 +306,105 @@ pub fn torus(n: u32, m: u32, r: f64) -> ClosedMesh {
     }
 }
 
+/// `mesh` with a T-junction closed by a zero-area triangle on every edge:
+/// for each edge `a`–`b`, the triangle `(a, b, c)` that runs it from `a`
+/// to `b` becomes `(a, m, c)` and `(m, b, c)`, with `m` the midpoint, and
+/// the triangle `(m, a, b)`, whose vertices are collinear, joins the other
+/// side's edge `b`–`a` to `a`–`m`–`b`. The mesh stays closed and
+/// consistently wound. Placed where the midpoints are exact (vertices on a
+/// dyadic lattice, as in [`lattice_ball`]), those triangles have zero area
+/// in `Real` too, and only they cover the cracks the shear's rounding
+/// opens between `a`–`m`–`b` and `b`–`a`.
+#[must_use]
+pub fn with_t_junctions(mesh: &ClosedMesh) -> ClosedMesh {
+    let mut vertices = mesh.vertices.clone();
+    let mut faces = mesh.faces.clone();
+    let mut edges: Vec<(u32, u32)> = mesh
+        .faces
+        .iter()
+        .flat_map(|f| [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])])
+        .filter(|(a, b)| a < b)
+        .collect();
+    edges.sort_unstable();
+    for (a, b) in edges {
+        // The face running a → b: it is still there, since splitting
+        // other edges keeps every edge but the split one.
+        let Some((k, c)) = faces.iter().enumerate().find_map(|(k, f)| {
+            (0..3).find_map(|i| (f[i] == a && f[(i + 1) % 3] == b).then(|| (k, f[(i + 2) % 3])))
+        }) else {
+            continue;
+        };
+        let (pa, pb) = (vertices[a as usize], vertices[b as usize]);
+        let m = vertices.len() as u32;
+        vertices.push(std::array::from_fn(|i| (pa[i] + pb[i]) / 2.0));
+        faces[k] = [a, m, c];
+        faces.push([m, b, c]);
+        faces.push([m, a, b]);
+    }
+    ClosedMesh {
+        name: format!("{}-t-junctions", mesh.name),
+        vertices,
+        faces,
+        inside: mesh.inside,
+    }
+}
+
+/// An octahedron subdivided `levels` times (each triangle into four), its
+/// vertices pushed out to radius 4 and rounded to multiples of 1/8: a
+/// closed ball whose coordinates, and their midpoints, are exact in `f32`
+/// up to an offset of 2¹⁷.
+#[must_use]
+pub fn lattice_ball(levels: u32) -> ClosedMesh {
+    let mut vertices: Vec<[f64; 3]> = vec![
+        [1.0, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+    ];
+    let mut faces: Vec<[u32; 3]> = vec![
+        [0, 2, 4],
+        [2, 1, 4],
+        [1, 3, 4],
+        [3, 0, 4],
+        [2, 0, 5],
+        [1, 2, 5],
+        [3, 1, 5],
+        [0, 3, 5],
+    ];
+    for _ in 0..levels {
+        let mut mid = std::collections::HashMap::new();
+        let mut split = |a: u32, b: u32, vertices: &mut Vec<[f64; 3]>| -> u32 {
+            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                let (pa, pb) = (vertices[a as usize], vertices[b as usize]);
+                vertices.push(std::array::from_fn(|i| (pa[i] + pb[i]) / 2.0));
+                (vertices.len() - 1) as u32
+            })
+        };
+        let mut next = Vec::with_capacity(faces.len() * 4);
+        for [a, b, c] in faces {
+            let (ab, bc, ca) = (
+                split(a, b, &mut vertices),
+                split(b, c, &mut vertices),
+                split(c, a, &mut vertices),
+            );
+            next.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+        }
+        faces = next;
+    }
+    for v in &mut vertices {
+        let r = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        *v = v.map(|x| (x / r * 4.0 * 8.0).round() / 8.0);
+    }
+    ClosedMesh {
+        name: format!("lattice-ball-{levels}"),
+        vertices,
+        faces,
+        inside: [0.3, -0.2, 0.1],
+    }
+}
+
 /// The four hard meshes of the leak tests and `cargo xtask accuracy`, at
 /// sizes that keep a probe run short: a UV sphere with pole fans, a
 /// bicone of 10⁻⁵-radian slivers, a fan cube mixing areas 10⁻⁸ and 1, and
@@ -367,6 +466,25 @@ mod tests {
             assert!(volume(&m) > 0.0, "{}: volume {}", m.name, volume(&m));
         }
         assert!((volume(&fan_cube(2e-8)) - 8.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn t_junctions_keep_the_mesh_closed_with_zero_area_triangles() {
+        let ball = lattice_ball(2);
+        assert_closed(&ball);
+        assert!(volume(&ball) > 0.0);
+        let t = with_t_junctions(&ball);
+        assert_closed(&t);
+        assert!((volume(&t) - volume(&ball)).abs() < 1e-9);
+        let edges = 3 * ball.faces.len() / 2;
+        assert_eq!(t.faces.len(), ball.faces.len() + 2 * edges);
+        // One zero-area triangle per edge, exactly, in `Real` too.
+        let flat = t
+            .triangles(1.0, 131_072.0)
+            .iter()
+            .filter(|t| t.is_degenerate())
+            .count();
+        assert_eq!(flat, edges);
     }
 
     #[test]
