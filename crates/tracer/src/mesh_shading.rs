@@ -216,8 +216,8 @@ impl MeshRef {
 /// The [`MeshRef`] of every grid primitive, as runs: primitives
 /// `first..` of a run are consecutive triangles of one mesh from `tri` on
 /// (or none of a mesh's). A mesh's triangles are one run, broken only
-/// where a degenerate triangle is left out of the grid, so a scene keeps a
-/// few runs instead of 8 bytes per primitive.
+/// where a triangle with two equal vertices is left out of the grid, so a
+/// scene keeps a few runs instead of 8 bytes per primitive.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct PrimMeshes {
     runs: Vec<Run>,

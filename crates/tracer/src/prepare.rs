@@ -62,8 +62,8 @@ impl Prepared {
     }
 }
 
-/// Validates the scene and converts it. Triangles of zero area are left
-/// out of the grid (they can never be hit).
+/// Validates the scene and converts it. Triangles with two equal vertices
+/// are left out of the grid (no ray can hit them).
 /// `mesh_grid` builds the grids of shared meshes; `None` bakes every
 /// instance into world space. `storage` says how a scene of mesh
 /// triangles alone stores them.
@@ -345,7 +345,7 @@ fn add_emitter(data: &mut SceneData, prim: usize, shape: &Shape, material: u32) 
 
 /// Fills `data` with the primitives' materials and returns the primitives:
 /// each object's in turn (a sphere set's in the set's order, a mesh's in
-/// triangle order without the degenerate ones).
+/// triangle order without those with two equal vertices).
 /// What validation counted: grid primitives, and whether all are spheres.
 struct Counts {
     count: usize,
@@ -721,8 +721,8 @@ mod tests {
 
     #[test]
     fn shading_reads_the_scenes_mesh_arrays_without_copies() {
-        // Two triangles of a quad, smooth-shaded, and one degenerate one
-        // between them (left out of the grid).
+        // Two triangles of a quad, smooth-shaded, and one with two equal
+        // vertices between them (left out of the grid).
         let mesh = Arc::new(Mesh {
             name: "quad".into(),
             positions: vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],

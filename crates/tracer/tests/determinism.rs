@@ -69,7 +69,7 @@ fn sphere_set_renders_like_objects() {
 }
 
 /// A scene of meshes alone: two smooth UV spheres (their poles hold
-/// zero-area triangles, left out of the grid), one of them glowing (an
+/// zero-area triangles), one of them glowing (an
 /// area light made of triangles), a flat mesh placed twice, a floor plane
 /// and a point light with shadows.
 fn meshes_only(integrator: gridrt_tracer::IntegratorChoice) -> gridrt_tracer::Scene {
