@@ -195,6 +195,11 @@ pub struct AccelArgs {
     /// Default: 8 times the primitives' own size, and at least 4 MiB.
     #[arg(long = "grid-memory", value_name = "MIB", value_parser = parse_grid_memory)]
     pub grid_memory: Option<usize>,
+    /// Test the references of the flat grid's crowded cells one by one
+    /// instead of keeping a box per group of four (GridConfig::cell_groups):
+    /// a smaller index, more tests per ray; to compare speed and memory.
+    #[arg(long = "no-cell-groups")]
+    pub no_cell_groups: bool,
     /// Bake every mesh into world space, even one placed many times
     /// (by default such a mesh is stored once with a grid of its own and
     /// each placement is one primitive): to compare speed and memory.
@@ -270,6 +275,7 @@ impl AccelArgs {
     pub(crate) fn grid_config(&self) -> GridConfig {
         let mut g = GridConfig {
             memory_budget: self.grid_memory,
+            cell_groups: !self.no_cell_groups,
             ..GridConfig::default()
         };
         if let Some(m) = self.grid_m {

@@ -293,3 +293,30 @@ fn grid_memory_caps_absurd_settings_and_keeps_the_answers() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("--grid-memory"));
 }
+
+#[test]
+fn no_cell_groups_turns_the_group_boxes_off_and_keeps_the_answers() {
+    let dir = tempfile::tempdir().unwrap();
+    stadium(dir.path(), 1024);
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "rays",
+            "stadium.obj",
+            "rays.csv",
+            "--accel",
+            "grid",
+            "--stats",
+            "s.json",
+        ];
+        args.extend_from_slice(extra);
+        let out = ok(&gridrt(&args, dir.path()));
+        (out, json(&dir.path().join("s.json")))
+    };
+    let (grouped, g) = run(&[]);
+    let (plain, p) = run(&["--no-cell-groups"]);
+    assert_eq!(grouped, plain);
+    assert!(g["grid"]["grouped_cells"].as_u64().unwrap() > 0, "{g}");
+    assert_eq!(p["grid"]["grouped_cells"].as_u64(), Some(0), "{p}");
+    let tests = |j: &serde_json::Value| j["tests_per_ray"].as_f64().unwrap();
+    assert!(tests(&p) > tests(&g), "{} {}", tests(&p), tests(&g));
+}
