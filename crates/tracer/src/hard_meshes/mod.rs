@@ -349,13 +349,10 @@ pub fn with_t_junctions(mesh: &ClosedMesh) -> ClosedMesh {
     }
 }
 
-/// An octahedron subdivided `levels` times (each triangle into four), its
-/// vertices pushed out to radius 4 and rounded to multiples of 1/8: a
-/// closed ball whose coordinates, and their midpoints, are exact in `f32`
-/// up to an offset of 2¹⁷.
-#[must_use]
-pub fn lattice_ball(levels: u32) -> ClosedMesh {
-    let mut vertices: Vec<[f64; 3]> = vec![
+/// The unit octahedron: its six vertices on the axes and its eight faces,
+/// counter-clockwise seen from outside.
+fn octahedron() -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let vertices = vec![
         [1.0, 0.0, 0.0],
         [-1.0, 0.0, 0.0],
         [0.0, 1.0, 0.0],
@@ -363,7 +360,7 @@ pub fn lattice_ball(levels: u32) -> ClosedMesh {
         [0.0, 0.0, 1.0],
         [0.0, 0.0, -1.0],
     ];
-    let mut faces: Vec<[u32; 3]> = vec![
+    let faces = vec![
         [0, 2, 4],
         [2, 1, 4],
         [1, 3, 4],
@@ -373,6 +370,16 @@ pub fn lattice_ball(levels: u32) -> ClosedMesh {
         [3, 1, 5],
         [0, 3, 5],
     ];
+    (vertices, faces)
+}
+
+/// An octahedron subdivided `levels` times (each triangle into four), its
+/// vertices pushed out to radius 4 and rounded to multiples of 1/8: a
+/// closed ball whose coordinates, and their midpoints, are exact in `f32`
+/// up to an offset of 2¹⁷.
+#[must_use]
+pub fn lattice_ball(levels: u32) -> ClosedMesh {
+    let (mut vertices, mut faces) = octahedron();
     for _ in 0..levels {
         let mut mid = std::collections::HashMap::new();
         let mut split = |a: u32, b: u32, vertices: &mut Vec<[f64; 3]>| -> u32 {

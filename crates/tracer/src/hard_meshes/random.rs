@@ -85,25 +85,7 @@ fn slerp(a: [f64; 3], b: [f64; 3], s: f64) -> [f64; 3] {
 pub fn random_star(seed: u64, splits: u32, r_min: f64) -> ClosedMesh {
     assert!(r_min > 0.0 && r_min <= 1.0, "r_min must be in (0, 1]");
     let mut rng = SplitMix(seed);
-    let mut dirs: Vec<[f64; 3]> = vec![
-        [1.0, 0.0, 0.0],
-        [-1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.0, -1.0, 0.0],
-        [0.0, 0.0, 1.0],
-        [0.0, 0.0, -1.0],
-    ];
-    // Counter-clockwise seen from outside.
-    let mut faces: Vec<[u32; 3]> = vec![
-        [0, 2, 4],
-        [2, 1, 4],
-        [1, 3, 4],
-        [3, 0, 4],
-        [2, 0, 5],
-        [1, 2, 5],
-        [3, 1, 5],
-        [0, 3, 5],
-    ];
+    let (mut dirs, mut faces) = super::octahedron();
     for _ in 0..splits {
         let f = rng.below(faces.len());
         if rng.next().is_multiple_of(3) {
