@@ -183,10 +183,11 @@ pub(super) fn intersect_lanes(
     // beside t-unit z, with the inverse of the direction's length; it
     // rejected true hits on slivers, on short directions and in small
     // scenes, and those rays then fell through closed meshes. When every
-    // vertex lies ahead of the origin (all z > 0) the sum above has
-    // terms of one sign and `t > 0` (unless the products underflow), so no hit in front of the
-    // origin is lost; a surface the ray starts on is left by offsetting
-    // the origin (`offset_ray_origin`), not by an epsilon here.
+    // vertex lies ahead of the origin (all z > 0) the sum that gives `t`
+    // has terms of one sign and `t > 0` (unless the products underflow),
+    // so no hit in front of the origin is lost; a surface the ray starts
+    // on is left by offsetting the origin (`offset_ray_origin`), not by
+    // an epsilon here.
     if !(t > 0.0 && t >= t_min && t <= t_max) {
         return None;
     }
