@@ -183,7 +183,7 @@ impl Instance {
     pub(crate) fn surface_part(&self, h: &PrimHit, ray: &Ray) -> SurfacePoint {
         let m = &self.shared.mesh;
         let p = m.triangles[h.part as usize].map(|k| m.positions[k as usize]);
-        let obj = surface_point(p, h, &self.object_ray(ray));
+        let obj = surface_point(p, h, || self.object_ray(ray));
         let (p, mut p_err) = self.to_world.point_with_error(obj.p, obj.p_err);
         let abs = |a: &Affine| Affine {
             cols: a.cols.map(Vec3::abs),

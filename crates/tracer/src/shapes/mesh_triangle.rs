@@ -344,7 +344,7 @@ impl Surface for MeshTriangle {
     /// vertices.
     #[inline]
     fn surface(&self, verts: &MeshVertices, ray: &Ray, h: &PrimHit) -> SurfacePoint {
-        surface_point(self.vertices(verts), h, ray)
+        surface_point(self.vertices(verts), h, || *ray)
     }
 
     #[inline]

@@ -431,7 +431,7 @@ impl Primitive for Triangle {
 impl Surface for Triangle {
     #[inline]
     fn surface(&self, _: &(), ray: &Ray, h: &PrimHit) -> SurfacePoint {
-        surface_point(self.vertices(), h, ray)
+        surface_point(self.vertices(), h, || *ray)
     }
 }
 
@@ -443,9 +443,13 @@ impl Surface for Triangle {
 /// the origin this is about a third of pbrt-v4's γ(7)·Σ|bᵢ·pᵢ|, so
 /// secondary rays start within the rounding of the geometry. The normal
 /// is the unit [`Triangle::area_normal`], or [`facing_normal`] for the
-/// `ray` that hit when the area does not resolve.
+/// ray that hit (asked of `ray` only then) when the area does not resolve.
 #[inline]
-pub(super) fn surface_point([p0, p1, p2]: [Vec3; 3], h: &PrimHit, ray: &Ray) -> SurfacePoint {
+pub(super) fn surface_point(
+    [p0, p1, p2]: [Vec3; 3],
+    h: &PrimHit,
+    ray: impl FnOnce() -> Ray,
+) -> SurfacePoint {
     let (u, v) = (h.u, h.v);
     let a = (p1 - p0) * u;
     let b = (p2 - p0) * v;
@@ -466,7 +470,7 @@ pub(super) fn surface_point([p0, p1, p2]: [Vec3; 3], h: &PrimHit, ray: &Ray) -> 
         p_err,
         n: area_normal([p0, p1, p2])
             .try_normalize()
-            .unwrap_or_else(|| facing_normal([p0, p1, p2], ray)),
+            .unwrap_or_else(|| facing_normal([p0, p1, p2], &ray())),
     }
 }
 
@@ -592,13 +596,8 @@ mod tests {
         // Random triangles and rays from random origins through random
         // points of them: the side the sheared winding shows is the side
         // of the front normal, whatever the ray's axes and signs.
-        let mut s = 7u64;
-        let mut rnd = || {
-            s = s
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1442695040888963407);
-            (s >> 40) as Real / (1u64 << 24) as Real * 2.0 - 1.0
-        };
+        let mut rng = crate::hard_meshes::SplitMix(7);
+        let mut rnd = || (rng.next() >> 40) as Real / (1u64 << 24) as Real * 2.0 - 1.0;
         let mut seen = [0, 0];
         for _ in 0..2000 {
             let p = [(); 3].map(|()| Vec3::new(rnd(), rnd(), rnd()));
