@@ -54,10 +54,14 @@
 //! walks the first of the cell's chain of wide grids that covers it
 //! ([`Sub::wide`]): the same references, each grid with a pad
 //! [`WIDE_STEP`] times the previous one's up to the parent's, in cells at
-//! least [`WIDE_CELL_PADS`] pads wide. Exact either way; so rays near a
-//! detailed object walk cells fitted to it, and a telephoto view of it
-//! from far outside the scene walks coarser cells instead of testing the
-//! whole object.
+//! least [`WIDE_CELL_PADS`] pads wide. The chain ends where the box fits
+//! in one cell of the next pad: a ray beyond every reach tests the cell's
+//! references only if it meets the nested grid's box widened by the
+//! parent's pad ([`Sub::outer`]), which holds every hit of them in the
+//! cell. Exact either way; so rays near a detailed object walk cells
+//! fitted to it, a telephoto view of it from far outside the scene walks
+//! coarser cells instead of testing the whole object, and a far ray that
+//! crosses the cell beside the object tests none of it.
 //!
 //! **Correctness** is the outer grid's argument one level down. A nested
 //! grid spans every point of its cell that lies in one of its references'
@@ -101,7 +105,8 @@ pub(crate) const PAD_CELLS: Real = 1.0 / 16.0;
 pub(crate) const PAD_STEP: Real = 8.0;
 
 /// A ray from beyond a nested grid's reach tests the cell's references
-/// instead of walking it when they are at most this many; a more crowded
+/// instead of walking it (if it meets [`Sub::outer`]) when they are at
+/// most this many; a more crowded
 /// cell keeps wide grids for such rays ([`Sub::wide`]), and its nested
 /// grid's pad has no floor but its own references' ([`pad_of`]).
 pub(crate) const CHEAP_REFS: usize = 512;
@@ -163,6 +168,11 @@ pub(crate) struct Sub {
     pub geom: Geom,
     /// The rays its pad covers.
     pub reach: Reach,
+    /// Its box widened by its parent's pad (rounded outwards): every hit
+    /// in the parent's cell of the references it holds lies in it, for
+    /// the rays the parent covers. A ray beyond the reach of the whole
+    /// chain of wide grids tests those references only if it meets it.
+    pub outer: Aabb,
     /// `offsets[c]..offsets[c + 1]` are nested cell `c`'s references
     /// (row-major), indices of the outer grid's primitives.
     pub offsets: Box<[u32]>,
@@ -196,6 +206,29 @@ impl Sub {
             s = s.wide.as_deref()?;
         }
         Some(s)
+    }
+
+    /// The references of its cell `refs` that a ray beyond the reach of
+    /// every grid of the chain ([`Sub::for_ray`] is `None`) tests over
+    /// `[t_min, t_max]`: all of them if it meets [`Sub::outer`], else only
+    /// those tested on entry, which lie outside that box.
+    #[inline(always)]
+    pub(crate) fn far_refs<'r>(
+        &'r self,
+        refs: &'r [u32],
+        ray: &gridrt_bbox::Ray,
+        t_min: Real,
+        t_max: Real,
+    ) -> &'r [u32] {
+        if self
+            .outer
+            .hit_with(self.geom.slab, ray, t_min, t_max)
+            .is_some()
+        {
+            refs
+        } else {
+            &self.direct
+        }
     }
 
     /// Its chain of wide grids, finest first.
@@ -330,6 +363,8 @@ struct Candidate {
 struct Plan {
     geom: Geom,
     reach: Reach,
+    /// [`Sub::outer`].
+    outer: Aabb,
     offsets: Vec<u32>,
     /// The references in the nested grid, each with its cell range.
     ranges: Vec<(u32, CellRange)>,
@@ -609,6 +644,7 @@ fn plan<P: Primitive>(
         wide = Some(Box::new(Plan {
             geom: w,
             reach: w_reach,
+            outer: g.widen(&cell),
             offsets,
             ranges,
             direct: direct.clone(),
@@ -618,6 +654,7 @@ fn plan<P: Primitive>(
     Some(Plan {
         geom,
         reach,
+        outer: g.widen(&cell),
         offsets,
         ranges,
         direct,
@@ -694,7 +731,8 @@ fn layout(
 /// more cells per axis than the nested grid and cells at least
 /// [`WIDE_CELL_PADS`] pads wide. None where the cell is cheap to test or
 /// the nested pad is the parent's; the chain stops where the box fits in
-/// one such cell (a ray beyond the last reach tests the references).
+/// one such cell (a ray beyond the last reach tests the references, if it
+/// meets [`Sub::outer`]).
 fn wide_chain(g: &Geom, cell_refs: usize, narrow: &Geom, span: &Aabb) -> Vec<(Geom, Reach)> {
     let mut chain = Vec::new();
     if cell_refs <= CHEAP_REFS {
@@ -769,6 +807,7 @@ fn fill(plan: &Plan, start: u32, depth: u32) -> Sub {
         start,
         geom: plan.geom.clone(),
         reach: plan.reach,
+        outer: plan.outer,
         occ: dense_occupancy(&plan.offsets),
         offsets: plan.offsets.clone().into_boxed_slice(),
         refs: out.into_boxed_slice(),

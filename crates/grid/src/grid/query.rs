@@ -112,11 +112,11 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
     /// Walks the nested grid of a crowded cell instead of testing the
     /// cell's references one by one: the same query, one level down. A ray
     /// from beyond the nested grid's reach walks its wide grid, or tests
-    /// them one by one.
+    /// them one by one if it meets their box ([`Sub::far_refs`]).
     #[inline(never)]
     fn walk_sub(&mut self, sub: &Sub, refs: &[u32]) {
         let Some(sub) = sub.for_ray(self.ray) else {
-            return self.test_refs(refs);
+            return self.test_refs(sub.far_refs(refs, self.ray, self.t_min, self.t_lim));
         };
         if !sub.direct.is_empty() {
             self.test_refs(&sub.direct);
@@ -318,11 +318,11 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
     /// nested cells along the ray are tested. An occluder whose hit lies
     /// outside this cell is found in the cell that holds the hit. A ray
     /// from beyond the nested grid's reach walks its wide grid, or tests
-    /// the cell's `refs`.
+    /// the cell's `refs` if it meets their box ([`Sub::far_refs`]).
     #[inline(never)]
     fn walk_sub(&mut self, sub: &Sub, refs: &[u32]) -> ControlFlow<()> {
         let Some(sub) = sub.for_ray(self.ray) else {
-            return self.test_refs(refs);
+            return self.test_refs(sub.far_refs(refs, self.ray, self.t_min, self.t_max));
         };
         self.test_refs(&sub.direct)?;
         let entered = || sub.prefetch();

@@ -288,3 +288,64 @@ fn a_far_ray_walks_the_wide_grid_of_a_crowded_cell() {
     w.geom.pad *= 0.5;
     assert!(narrow.check_invariants().is_err());
 }
+
+/// A cluster 0.05 wide, 1,000 units from the origin, in a scene 16,000
+/// wide: in `f32` the chain of wide
+/// grids beside its nested grid ends where the cluster fits in one cell
+/// of the wider pad, short of the parent's, so a ray from 20,000 units is
+/// beyond every reach. Such a ray that crosses the cluster's top cell but
+/// misses the cluster's box (widened by the parent's pad) tests none of
+/// its 4,000 balls (it tested them all before the box test); one aimed at the cluster tests them and gets the
+/// exhaustive answer. `check_invariants` checks the box.
+#[test]
+fn a_ray_beyond_every_reach_tests_a_cluster_only_if_it_meets_its_box() {
+    let mut s = 11u64;
+    let mut balls: Vec<Ball> = (0..4000)
+        .map(|_| {
+            let c = Vec3::new(lcg(&mut s), lcg(&mut s), lcg(&mut s)) * 0.05;
+            Ball(c + Vec3::splat(1000.0), 0.0002)
+        })
+        .collect();
+    balls.push(Ball(Vec3::splat(-8000.0), 1.0));
+    balls.push(Ball(Vec3::splat(8000.0), 1.0));
+    let g = Grid::build(balls.clone(), &GridConfig::default());
+    g.check_invariants().expect("a valid grid");
+    let ex = Exhaustive::new(balls.clone());
+    let (mut gs, mut es) = (g.scratch(), ex.scratch());
+    let (mut missing, mut aimed) = (
+        crate::QueryCounters::default(),
+        crate::QueryCounters::default(),
+    );
+    for i in 0..200 {
+        let to = balls[i * 17].0;
+        let from = to + Vec3::new(0.3, 1.0, 0.6).normalize() * 20_000.0;
+        // Half of the rays pass a unit beside the cluster.
+        let aim = if i % 2 == 0 { to } else { to + Vec3::X };
+        let ray = Ray::new(from, aim - from);
+        if !cfg!(feature = "f64") {
+            let sub = g.nested.subs.iter().find(|s| s.wide.is_some());
+            let sub = sub.expect("a chain of wide grids");
+            assert!(sub.for_ray(&ray).is_none(), "beyond every reach");
+        }
+        let c = if i % 2 == 0 { &mut aimed } else { &mut missing };
+        let hit = g.closest_hit_counted(&ray, 0.0, Real::INFINITY, &mut gs, c);
+        let want = ex.closest_hit(&ray, 0.0, Real::INFINITY, &mut es);
+        assert_eq!(hit.map(|h| (h.t, h.prim)), want.map(|h| (h.t, h.prim)));
+        assert_eq!(
+            g.any_hit(&ray, 0.0, Real::INFINITY, &mut gs),
+            ex.any_hit(&ray, 0.0, Real::INFINITY, &mut es)
+        );
+    }
+    // At most the two large balls, none of the cluster's 4,000.
+    assert!(
+        missing.tests_per_ray() <= 2.0,
+        "{} tests per missing ray",
+        missing.tests_per_ray()
+    );
+    assert!(aimed.tests_per_ray() >= 1.0);
+    // `check_invariants` refuses a box that was not widened.
+    let mut g = g;
+    let sub = &mut g.nested.subs[0];
+    sub.outer = sub.geom.bounds;
+    assert!(g.check_invariants().is_err());
+}

@@ -44,6 +44,9 @@ impl Nested {
             if sg.pad != pad || sub.reach != Reach::new(&span, pad, g.pad) {
                 return Err(format!("cell {idx:?}: nested pad or reach wrong"));
             }
+            if sub.outer != g.widen(&sg.bounds) {
+                return Err(format!("cell {idx:?}: box for rays beyond reach wrong"));
+            }
             let own = check_cells(prims, shared, idx, sub, &inner)?;
             // The wide grids: a chain of those `wide_chain` plans, in order
             // (a link whose references did not separate is left out).
