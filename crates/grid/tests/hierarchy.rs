@@ -62,7 +62,8 @@ fn tri(c: Vec3, s: Real, p: [[Real; 3]; 3]) -> Triangle {
 
 /// Small triangles in a cluster of size `s` around `c`, a few huge ones
 /// around it (a room `room` wide), and rays from all around, aimed at the
-/// cluster; every ray checked against exhaustive.
+/// cluster or passing beside it, from near and from several rooms away;
+/// every ray checked against exhaustive.
 fn check_cluster(c: Vec3, s: Real, room: Real, small: &[[[Real; 3]; 3]], aims: &[[Real; 6]]) {
     let mut scene: Vec<Triangle> = small.iter().map(|&p| tri(c, s, p)).collect();
     let r = room;
@@ -71,13 +72,24 @@ fn check_cluster(c: Vec3, s: Real, room: Real, small: &[[[Real; 3]; 3]], aims: &
     scene.push(tri(c, 1.0, [[-r, -r, -r], [r, -r, -r], [0.0, r, -r]]));
     scene.push(tri(c, 1.0, [[-r, -r, -r], [-r, r, -r], [-r, 0.0, r]]));
     let checker = Checker::new(scene, &configs());
-    for a in aims {
+    for (k, a) in aims.iter().enumerate() {
         let from = c + Vec3::new(a[0], a[1], a[2]) * (2.0 * s);
         let to = c + Vec3::new(a[3], a[4], a[5]) * (0.5 * s);
         checker.check(&Ray::new(from, to - from), 0.0, Real::INFINITY);
         // The same line from across the room.
         let far = to + (from - to) * (r / (2.0 * s));
         checker.check(&Ray::new(far, to - far), 0.0, Real::INFINITY);
+        // From ten times the room's half-width away on the open side (no
+        // floor or wall in the way), beyond the reach of narrower pads than
+        // the room's: at the centre of a small triangle, and beside the
+        // cluster through its cell.
+        let t = small[k % small.len()].map(Vec3::from_array);
+        let at = c + (t[0] + t[1] + t[2]) * (s / 3.0);
+        let side = ((from - to).abs() + Vec3::splat(0.1)).normalize();
+        let farther = at + side * (10.0 * r);
+        checker.check(&Ray::new(farther, at - farther), 0.0, Real::INFINITY);
+        let beside = at + Vec3::new(0.0, 3.0 * s, 0.0);
+        checker.check(&Ray::new(farther, beside - farther), 0.0, Real::INFINITY);
     }
 }
 
@@ -103,6 +115,21 @@ proptest! {
         aims in aims(12),
     ) {
         check_cluster(Vec3::new(0.3, 0.1, -0.2), 1.0, 500.0, &small, &aims);
+    }
+
+    #[test]
+    fn a_cluster_of_small_triangles_seen_from_afar(
+        small in prop::collection::vec((points3(), [unit(), unit(), unit()]), 60..200),
+        aims in aims(12),
+    ) {
+        // Triangles a hundredth of the cluster wide, so that nested grids
+        // separate them; in `f32` their pads are narrower than the room's,
+        // and the rays from 5,000 units away are beyond their reach.
+        let small: Vec<[[Real; 3]; 3]> = small
+            .iter()
+            .map(|(p, c)| p.map(|q| std::array::from_fn(|k| 0.05 * c[k] + 0.0005 * q[k])))
+            .collect();
+        check_cluster(Vec3::new(0.3, 0.1, -0.2), 2.0, 500.0, &small, &aims);
     }
 
     #[test]
