@@ -625,6 +625,7 @@ fn plan<P: Primitive>(
     let mut geom = Geom::new(cell, dims).with_pad(pad_of(g.pad, refs.len(), &cell, dims, &span));
     geom.slab = p.slab;
     let reach = Reach::new(&span, geom.pad, g.pad);
+    let outer = g.widen(&cell);
     // Whether a grid holding `total` references pays, by the estimate.
     let pays = |total: u64| {
         !p.cost
@@ -644,7 +645,7 @@ fn plan<P: Primitive>(
         wide = Some(Box::new(Plan {
             geom: w,
             reach: w_reach,
-            outer: g.widen(&cell),
+            outer,
             offsets,
             ranges,
             direct: direct.clone(),
@@ -654,7 +655,7 @@ fn plan<P: Primitive>(
     Some(Plan {
         geom,
         reach,
-        outer: g.widen(&cell),
+        outer,
         offsets,
         ranges,
         direct,

@@ -290,13 +290,13 @@ fn a_far_ray_walks_the_wide_grid_of_a_crowded_cell() {
 }
 
 /// A cluster 0.05 wide, 1,000 units from the origin, in a scene 16,000
-/// wide: in `f32` the chain of wide
-/// grids beside its nested grid ends where the cluster fits in one cell
-/// of the wider pad, short of the parent's, so a ray from 20,000 units is
-/// beyond every reach. Such a ray that crosses the cluster's top cell but
-/// misses the cluster's box (widened by the parent's pad) tests none of
-/// its 4,000 balls (it tested them all before the box test); one aimed at the cluster tests them and gets the
-/// exhaustive answer. `check_invariants` checks the box.
+/// wide: in `f32` the chain of wide grids beside its nested grid ends
+/// where the cluster fits in one cell of the wider pad, short of the
+/// parent's, so a ray from 20,000 units is beyond every reach. Such a ray
+/// that crosses the cluster's top cell but misses the cluster's box
+/// (widened by the parent's pad) tests none of its 4,000 balls (it tested
+/// them all before the box test); one aimed at the cluster tests them and
+/// gets the exhaustive answer. `check_invariants` checks the box.
 #[test]
 fn a_ray_beyond_every_reach_tests_a_cluster_only_if_it_meets_its_box() {
     let mut s = 11u64;
