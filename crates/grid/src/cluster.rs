@@ -66,7 +66,11 @@ pub(crate) fn top_count<P: Primitive>(
     let [nx, ny, _] = dims.map(|d| d as usize);
     let mut counts = vec![0u16; cells];
     let (mut crowded_cells, mut crowded_samples) = (0usize, 0usize);
-    for p in prims.iter().step_by(stride) {
+    for (i, p) in prims.iter().enumerate().step_by(stride) {
+        // The strided reads miss the cache: ask for one some samples ahead.
+        if let Some(q) = prims.get(i + 16 * stride) {
+            crate::mem::prefetch(q);
+        }
         let b = p.bounds(shared);
         if gridded(&b).is_none() {
             continue;
