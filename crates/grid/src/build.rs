@@ -134,7 +134,7 @@ pub(crate) fn build<P: Primitive>(
             } else {
                 gridded
             };
-            geom::resolution(ext, count, m, max_cells)
+            geom::resolution(ext, count, cluster::top_m(gridded, count, m), max_cells)
         }
     };
     // References are bounded too, so that huge primitives over a fine grid cannot

@@ -311,7 +311,7 @@ fn a_small_cluster_in_a_large_room_gets_a_coarse_top_and_deep_nesting() {
     g.check_invariants().expect("a valid grid");
     let cells = |d: [u32; 3]| d.iter().map(|&n| u64::from(n)).product::<u64>();
     assert!(
-        cells(g.dims()) * 27 <= cells(flat.dims()),
+        cells(g.dims()) * 16 <= cells(flat.dims()),
         "{:?} against {:?}",
         g.dims(),
         flat.dims()
