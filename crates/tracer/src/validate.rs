@@ -406,9 +406,8 @@ fn check_set(object: usize, set: &SphereSet) -> Result<(), SceneError> {
             spheres: set.spheres.len(),
         });
     }
-    // One branch-free pass in lanes first (a million spheres in about a
-    // millisecond); the loop naming the first bad one runs only when there
-    // is one.
+    // One branch-free pass in lanes first; the loop naming the first bad
+    // one runs only when there is one.
     let center_ok =
         |s: &Sphere| s.center.x.is_finite() & s.center.y.is_finite() & s.center.z.is_finite();
     let radius_ok = |s: &Sphere| (s.radius > 0.0) & s.radius.is_finite();
