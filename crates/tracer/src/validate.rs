@@ -408,9 +408,6 @@ fn check_set(object: usize, set: &SphereSet) -> Result<(), SceneError> {
     }
     // One branch-free pass in lanes first; the loop naming the first bad
     // one runs only when there is one.
-    let center_ok =
-        |s: &Sphere| s.center.x.is_finite() & s.center.y.is_finite() & s.center.z.is_finite();
-    let radius_ok = |s: &Sphere| (s.radius > 0.0) & s.radius.is_finite();
     if !spheres_ok(&set.spheres) {
         for (sphere, s) in set.spheres.iter().enumerate() {
             let bad = |reason| SceneError::BadSetSphere {
@@ -437,10 +434,22 @@ fn check_set(object: usize, set: &SphereSet) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// Whether every sphere has a finite centre and a finite radius > 0 (as
-/// `check_set`'s tests say): each sphere's four numbers compared in lanes
-/// with their open bounds, which NaN fails, and the lane masks combined
-/// without a branch.
+fn center_ok(s: &Sphere) -> bool {
+    s.center.is_finite()
+}
+
+fn radius_ok(s: &Sphere) -> bool {
+    s.radius > 0.0 && s.radius.is_finite()
+}
+
+/// Whether `lanes` gives every item of `xs` all four lanes set, the masks
+/// combined without a branch.
+fn all_lanes<T>(xs: &[T], lanes: impl Fn(&T) -> u32) -> bool {
+    xs.iter().fold(0xf, |ok, x| ok & lanes(x)) == 0xf
+}
+
+/// Whether every sphere passes [`center_ok`] and [`radius_ok`]: its four
+/// numbers compared in lanes with their open bounds, which NaN fails.
 fn spheres_ok(spheres: &[Sphere]) -> bool {
     let lo = Lanes::new(
         Real::NEG_INFINITY,
@@ -449,20 +458,19 @@ fn spheres_ok(spheres: &[Sphere]) -> bool {
         0.0,
     );
     let hi = Lanes::splat(Real::INFINITY);
-    spheres.iter().fold(0xf, |ok, s| {
+    all_lanes(spheres, |s| {
         let v = Lanes::new(s.center.x, s.center.y, s.center.z, s.radius);
-        ok & (v.cmpgt(lo) & v.cmplt(hi)).bitmask()
-    }) == 0xf
+        (v.cmpgt(lo) & v.cmplt(hi)).bitmask()
+    })
 }
 
-/// Whether every colour is finite and ≥ 0 in every channel ([`color_ok`]),
-/// in lanes as in [`spheres_ok`].
+/// Whether every colour passes [`color_ok`], in lanes as in [`spheres_ok`].
 fn colors_ok(colors: &[Rgb]) -> bool {
     let hi = glam::Vec4::splat(f32::INFINITY);
-    colors.iter().fold(0xf, |ok, c| {
+    all_lanes(colors, |c| {
         let v = glam::Vec4::new(c.x, c.y, c.z, 0.0);
-        ok & (v.cmpge(glam::Vec4::ZERO) & v.cmplt(hi)).bitmask()
-    }) == 0xf
+        (v.cmpge(glam::Vec4::ZERO) & v.cmplt(hi)).bitmask()
+    })
 }
 
 /// The checks of a mesh's arrays: attribute counts, finite values,
@@ -546,7 +554,7 @@ mod tests {
             for &y in &SPECIAL {
                 for &r in &SPECIAL {
                     let s = Sphere::new(Vec3::new(x as Real, y as Real, 1.0), r as Real);
-                    let scalar = s.center.is_finite() && s.radius > 0.0 && s.radius.is_finite();
+                    let scalar = center_ok(&s) && radius_ok(&s);
                     assert_eq!(spheres_ok(&[s]), scalar, "{s:?}");
                     let mut many = vec![good; 7];
                     many[(x.to_bits() ^ r.to_bits()) as usize % 7] = s;
