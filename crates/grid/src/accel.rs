@@ -131,6 +131,39 @@ pub trait Primitive: Sync {
     /// The [`RayData`](Self::RayData) of `ray`.
     fn ray_data(ray: &Ray) -> Self::RayData;
 
+    /// Four primitives laid out for [`four_may_hit`](Self::four_may_hit),
+    /// coordinate by coordinate in SIMD lanes (as Embree's `Triangle4`):
+    /// what an accelerator may keep beside references it tests together,
+    /// so that testing four needs no gathering (a grid without cells keeps
+    /// its primitives so). `()` for primitives without such a layout.
+    type Four: Copy + Default + Send + Sync + std::fmt::Debug;
+
+    /// Whether [`pack_four`](Self::pack_four) lays primitives out for
+    /// [`four_may_hit`](Self::four_may_hit); when `false` (the default)
+    /// accelerators do not call them.
+    const PACKS_FOUR: bool = false;
+
+    /// Up to four primitives (`None` past the last) as a
+    /// [`Four`](Self::Four).
+    #[inline]
+    fn pack_four(four: [Option<&Self>; 4], shared: &Self::Shared) -> Self::Four {
+        let _ = (four, shared);
+        Self::Four::default()
+    }
+
+    /// Which of the primitives packed in `four` (bit `k` for the `k`-th)
+    /// the ray whose [`RayData`](Self::RayData) is `data` may hit; each is
+    /// then tested with [`closest_hit`](Self::closest_hit) or
+    /// [`any_hit`](Self::any_hit). It must never clear the bit of a
+    /// primitive those would hit (the same rejection, with the same
+    /// operations in the same order, guarantees it); bits past the packed
+    /// primitives are ignored. The default rejects none.
+    #[inline]
+    fn four_may_hit(four: &Self::Four, data: &Self::RayData) -> u32 {
+        let _ = (four, data);
+        0xf
+    }
+
     /// A box that holds the whole primitive.
     fn bounds(&self, shared: &Self::Shared) -> Aabb;
 
@@ -291,6 +324,7 @@ pub const NO_SLOT: u32 = u32::MAX;
 ///     type Shared = ();
 ///     /// Whether the ray moves along x, decided once per query.
 ///     type RayData = bool;
+///     type Four = ();
 ///     fn ray_data(ray: &Ray) -> bool {
 ///         ray.dir.x != 0.0
 ///     }

@@ -15,6 +15,7 @@ use gridrt_bbox::{Ray, Real};
 /// impl Primitive for Ball {
 ///     type Shared = ();
 ///     type RayData = ();
+///     type Four = ();
 ///     fn ray_data(_: &Ray) {}
 ///     fn bounds(&self, _: &()) -> Aabb {
 ///         Aabb::new(self.0 - Vec3::splat(self.1), self.0 + Vec3::splat(self.1))

@@ -14,10 +14,12 @@ use std::ops::ControlFlow;
 use std::time::Instant;
 
 mod check;
+mod fours;
 mod lookup;
 mod query;
 mod slots;
 
+use fours::{any_in_fours, pack_fours};
 use lookup::{DenseLookup, HashedLookup};
 
 use query::{AnyHit, Closest};
@@ -72,6 +74,10 @@ pub struct Grid<P: Primitive> {
     /// One cell, whose references every query that meets the grid box
     /// tests without walking ([`GridConfig::direct`]).
     direct: bool,
+    /// A direct grid's primitives four by four in reference order, laid
+    /// out for [`Primitive::four_may_hit`] (when [`Primitive::PACKS_FOUR`];
+    /// else empty): testing them needs no gathering.
+    fours: Box<[P::Four]>,
     spread: [Box<[u64]>; 3],
     blocks: BlockMap,
     /// One bit per cell key: set when the cell holds references.
@@ -270,6 +276,7 @@ impl<P: Primitive> Grid<P> {
             ids,
             unbounded,
             direct: false,
+            fours: Box::new([]),
             spread: b.spread,
             blocks: BlockMap::default(),
             occ: Box::new([]),
@@ -306,6 +313,9 @@ impl<P: Primitive> Grid<P> {
         }
         grid.direct =
             config.direct(n) && grid.geom.cell_count() == 1 && grid.nested.subs.is_empty();
+        if grid.direct && P::PACKS_FOUR {
+            grid.fours = pack_fours(&grid.prims, &grid.shared, &grid.refs);
+        }
         let build_time = start.elapsed();
         let cells = grid.geom.cell_count();
         let table_bytes = match &grid.cells {
@@ -392,6 +402,7 @@ impl<P: Primitive> Grid<P> {
             + std::mem::size_of_val(&*self.ids)
             + self.groups.bytes()
             + self.nested.bytes()
+            + std::mem::size_of_val(&*self.fours)
     }
 
     /// The `nest_min_refs` of this build, and whether the cost model
@@ -673,7 +684,11 @@ impl<P: Primitive> Grid<P> {
         q.test_each(&self.unbounded);
         if direct {
             q.counters.cell();
-            q.test_each(&self.refs);
+            if self.fours.is_empty() {
+                q.test_each(&self.refs);
+            } else {
+                q.test_fours(&self.fours, &self.refs);
+            }
         }
         let Some(dda) = dda else {
             return q.best;
@@ -732,6 +747,18 @@ impl<P: Primitive> Grid<P> {
         if direct {
             counters.cell();
             counters.tests(self.refs.len());
+            if !self.fours.is_empty() {
+                return any_in_fours(
+                    &self.prims,
+                    &self.shared,
+                    &self.fours,
+                    &self.refs,
+                    ray,
+                    &data,
+                    t_min,
+                    t_max,
+                );
+            }
             return P::any_hits(
                 &self.prims,
                 &self.shared,

@@ -25,6 +25,7 @@
 //! impl Primitive for Ball {
 //!     type Shared = ();
 //!     type RayData = (); // nothing to compute once per ray
+//!     type Four = ();
 //!     fn ray_data(_: &Ray) {}
 //!     fn bounds(&self, _: &()) -> Aabb {
 //!         Aabb::new(self.0 - Vec3::splat(self.1), self.0 + Vec3::splat(self.1))

@@ -21,6 +21,7 @@ use gridrt_bbox::Aabb;
 /// impl Primitive for Dot {
 ///     type Shared = ();
 ///     type RayData = ();
+///     type Four = ();
 ///     fn ray_data(_: &Ray) {}
 ///     fn bounds(&self, _: &()) -> Aabb { Aabb::new(self.0, self.0) }
 ///     fn closest_hit(&self, _: &(), _: &Ray, _: &(), _: Real, _: Real) -> Option<PrimHit> { None }
@@ -85,6 +86,7 @@ mod tests {
     impl Primitive for Dot {
         type Shared = ();
         type RayData = ();
+        type Four = ();
         fn ray_data(_: &Ray) {}
         fn bounds(&self, _: &()) -> Aabb {
             Aabb::new(self.0, self.0)

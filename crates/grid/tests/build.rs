@@ -364,6 +364,7 @@ fn primitives_keep_their_order_and_odd_boxes_are_kept_aside() {
     impl Primitive for Odd {
         type Shared = ();
         type RayData = ();
+        type Four = ();
         fn ray_data(_: &Ray) {}
         fn bounds(&self, _: &()) -> Aabb {
             self.0

@@ -556,6 +556,7 @@ struct Ground;
 impl Primitive for Ground {
     type Shared = ();
     type RayData = ();
+    type Four = ();
     fn ray_data(_: &Ray) {}
     fn bounds(&self, _: &()) -> Aabb {
         Aabb::new(
@@ -578,6 +579,7 @@ enum WithGround {
 impl Primitive for WithGround {
     type Shared = ();
     type RayData = <Shape as Primitive>::RayData;
+    type Four = ();
     fn ray_data(ray: &Ray) -> Self::RayData {
         Shape::ray_data(ray)
     }

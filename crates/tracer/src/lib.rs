@@ -124,8 +124,8 @@ pub use scene::{
     Mesh, Object, Occlusion, Projection, Rgb, Scene, Settings, SphereSet, ThinLens,
 };
 pub use shapes::{
-    Cuboid, MeshTriangle, MeshVertices, MtTriangle, Plane, Shape, Shear, Sphere, SphereRay,
-    Triangle, MT_EPSILON,
+    Cuboid, MeshTriangle, MeshVertices, MtTriangle, Plane, Shape, Shear, Sphere, SphereFour,
+    SphereRay, Triangle, TriangleFour, MT_EPSILON,
 };
 pub use srgb::{linear_to_srgb, srgb8, srgb8_into};
 pub use texture::{MaterialMaps, Texture, TextureRef, Textures};

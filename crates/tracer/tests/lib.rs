@@ -17,6 +17,7 @@ mod lambert;
 mod leaks;
 mod mirror;
 mod offsets;
+mod packed_fours;
 mod path;
 mod plan;
 mod precision;

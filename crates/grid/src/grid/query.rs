@@ -101,7 +101,7 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
     /// Keeps `hit` if it is better ([`Hit::is_better_than`]); gives the
     /// limit for the tests that follow.
     #[inline(always)]
-    fn keep(&mut self, hit: Hit) -> Real {
+    pub(super) fn keep(&mut self, hit: Hit) -> Real {
         if self.best.as_ref().is_none_or(|b| hit.is_better_than(b)) {
             self.t_lim = hit.t;
             self.best = Some(hit);

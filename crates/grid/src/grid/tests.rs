@@ -11,6 +11,7 @@ pub(crate) struct Ball(pub Vec3, pub Real);
 impl Primitive for Ball {
     type Shared = ();
     type RayData = ();
+    type Four = ();
     fn ray_data(_: &Ray) {}
     fn bounds(&self, _: &()) -> Aabb {
         Aabb::new(self.0 - Vec3::splat(self.1), self.0 + Vec3::splat(self.1))

@@ -34,6 +34,7 @@ impl Sphere {
 impl Primitive for Sphere {
     type Shared = ();
     type RayData = ();
+    type Four = ();
 
     #[inline(always)]
     fn ray_data(_: &Ray) {}
@@ -259,6 +260,7 @@ impl Triangle {
 impl Primitive for Triangle {
     type Shared = ();
     type RayData = Shear;
+    type Four = ();
 
     #[inline(always)]
     fn ray_data(ray: &Ray) -> Shear {
@@ -406,6 +408,7 @@ impl Primitive for Shape {
 
     /// The triangles' frame; spheres need nothing.
     type RayData = Shear;
+    type Four = ();
 
     #[inline(always)]
     fn ray_data(ray: &Ray) -> Shear {

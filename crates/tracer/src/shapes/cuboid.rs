@@ -89,6 +89,7 @@ impl Primitive for Cuboid {
 
     /// Nothing is computed once per ray.
     type RayData = ();
+    type Four = ();
 
     #[inline]
     fn ray_data(_: &Ray) {}

@@ -140,6 +140,7 @@ impl Primitive for Instance {
     /// Nothing is computed once per world-space ray: the mesh's grid
     /// computes its triangles' data for the object-space ray.
     type RayData = ();
+    type Four = ();
 
     #[inline]
     fn ray_data(_: &Ray) {}

@@ -2,7 +2,7 @@
 //! meshes when memory matters more than the last few percent of speed.
 
 use super::triangle::{intersect_lanes, surface_point};
-use super::{overlap, Shear, Surface, SurfacePoint};
+use super::{overlap, Shear, Surface, SurfacePoint, TriangleFour};
 use gridrt_bbox::math::{LaneMat, Lanes};
 use gridrt_bbox::{Aabb, Ray, Real, Vec3};
 use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primitive};
@@ -253,9 +253,24 @@ impl Primitive for MeshTriangle {
     /// The ray's shear frame.
     type RayData = Shear;
 
+    /// Four triangles' vertices coordinate by coordinate.
+    type Four = TriangleFour;
+
+    const PACKS_FOUR: bool = true;
+
     #[inline]
     fn ray_data(ray: &Ray) -> Shear {
         Shear::new(ray)
+    }
+
+    fn pack_four(four: [Option<&Self>; 4], verts: &MeshVertices) -> TriangleFour {
+        TriangleFour::new(four.map(|t| t.map(|t| t.vertices(verts))))
+    }
+
+    /// The rejection of `closest_hits`, read from the packed rows.
+    #[inline(always)]
+    fn four_may_hit(four: &TriangleFour, shear: &Shear) -> u32 {
+        shear.four_may_hit(four)
     }
 
     #[inline]

@@ -22,8 +22,8 @@ pub use cuboid::Cuboid;
 pub use instance::{Instance, MeshGrid};
 pub use mesh_triangle::{MeshTriangle, MeshVertices};
 pub use plane::Plane;
-pub use shear::{LazyShear, Shear};
-pub use sphere::{Sphere, SphereRay};
+pub use shear::{LazyShear, Shear, TriangleFour};
+pub use sphere::{Sphere, SphereFour, SphereRay};
 pub(crate) use triangle::is_collapsed;
 pub use triangle::Triangle;
 pub use triangle_mt::{MtTriangle, MT_EPSILON};
@@ -95,6 +95,7 @@ impl Primitive for Shape {
     /// first meets one: rays through spheres and boxes alone never pay
     /// for it.
     type RayData = LazyShear;
+    type Four = ();
 
     #[inline]
     fn ray_data(_: &Ray) -> LazyShear {

@@ -7,7 +7,7 @@
 //! [`Shape`]: super::Shape
 
 use gridrt_bbox::math::{LaneMat, Lanes};
-use gridrt_bbox::{Ray, Real};
+use gridrt_bbox::{Ray, Real, Vec3};
 
 /// The ray's frame for the watertight ray–triangle test of Woop, Benthin &
 /// Wald ("Watertight Ray/Triangle Intersection", JCGT 2013), in which the
@@ -133,6 +133,14 @@ impl Shear {
         self.may_hit_rows(|k| [v[0][k], v[1][k], v[2][k]])
     }
 
+    /// [`Self::triangles_may_hit`] for four triangles packed in lanes
+    /// ([`TriangleFour`]): the same rows, read instead of transposed.
+    #[inline(always)]
+    #[must_use]
+    pub fn four_may_hit(&self, four: &TriangleFour) -> u32 {
+        self.may_hit_rows(|k| four.rows[k])
+    }
+
     /// The rejection of [`Self::triangles_may_hit`] from `rows(k)`:
     /// coordinate `k` of vertices 0, 1 and 2 of the four triangles.
     #[inline(always)]
@@ -154,6 +162,41 @@ impl Shear {
         let pos = e[0].cmpgt(z0) | e[1].cmpgt(z0) | e[2].cmpgt(z0);
         let zero = e[0].cmpeq(z0) | e[1].cmpeq(z0) | e[2].cmpeq(z0);
         !(neg & pos & !zero).bitmask() & 0xf
+    }
+}
+
+/// Four triangles coordinate by coordinate, for [`Shear::four_may_hit`]
+/// (as Embree's `Triangle4`): row `[k][i]` holds coordinate `k` of vertex
+/// `i`, triangle `j` in lane `j`, as [`Shear::triangles_may_hit`]
+/// transposes them. A lane without a triangle holds zeros.
+///
+/// ```
+/// use gridrt_grid::{Ray, Real, Vec3};
+/// use gridrt_tracer::{Shear, TriangleFour};
+/// let r = Ray::new(Vec3::new(0.25, 0.25, 1.0), Vec3::new(0.0, 0.0, -1.0));
+/// let tri = |dx: Real| Some([Vec3::new(dx, 0.0, 0.0), Vec3::new(1.0 + dx, 0.0, 0.0), Vec3::new(dx, 1.0, 0.0)]);
+/// // Under the ray, beside it, under it again, beside it.
+/// let four = TriangleFour::new([tri(0.0), tri(2.0), tri(-0.5), tri(-3.0)]);
+/// assert_eq!(Shear::new(&r).four_may_hit(&four), 0b0101);
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TriangleFour {
+    rows: [[Lanes; 3]; 3],
+}
+
+impl TriangleFour {
+    /// Up to four triangles' vertices (`None`: no triangle in that lane).
+    #[must_use]
+    pub fn new(four: [Option<[Vec3; 3]>; 4]) -> Self {
+        let mut rows = [[Lanes::ZERO; 3]; 3];
+        for (j, tri) in four.iter().enumerate() {
+            for (i, p) in tri.iter().flatten().enumerate() {
+                for (k, row) in rows.iter_mut().enumerate() {
+                    row[i][j] = p[k];
+                }
+            }
+        }
+        Self { rows }
     }
 }
 

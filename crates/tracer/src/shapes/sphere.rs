@@ -98,6 +98,11 @@ impl Sphere {
     }
 }
 
+/// Four spheres in lanes: the centres' x, y and z and the radii, sphere
+/// `j` in lane `j` (zeros where there is none).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SphereFour(LaneMat);
+
 /// What the four-at-a-time test of [`Sphere`]s needs of a ray, computed
 /// once per query rather than once per cell: the origin and direction
 /// spread over the lanes, and `d · d`.
@@ -115,15 +120,21 @@ impl SphereRay {
     /// operations in the same order, so lane by lane the very same verdict.
     #[inline(always)]
     fn may_hit(&self, four: [&Sphere; 4]) -> u32 {
+        let c = LaneMat::from_cols_array_2d(
+            &four.map(|s| [s.center.x, s.center.y, s.center.z, s.radius]),
+        )
+        .transpose();
+        self.may_hit_packed(&SphereFour(c))
+    }
+
+    /// [`Self::may_hit`] for four spheres packed in lanes.
+    #[inline(always)]
+    fn may_hit_packed(&self, &SphereFour(c): &SphereFour) -> u32 {
         let SphereRay {
             origin: [ox, oy, oz],
             dir: [dx, dy, dz],
             dd: a,
         } = *self;
-        let c = LaneMat::from_cols_array_2d(
-            &four.map(|s| [s.center.x, s.center.y, s.center.z, s.radius]),
-        )
-        .transpose();
         let fx = ox - c.x_axis;
         let fy = oy - c.y_axis;
         let fz = oz - c.z_axis;
@@ -141,6 +152,23 @@ impl Primitive for Sphere {
 
     /// The lanes of the four-at-a-time rejection.
     type RayData = SphereRay;
+
+    /// Four spheres in lanes.
+    type Four = SphereFour;
+
+    const PACKS_FOUR: bool = true;
+
+    fn pack_four(four: [Option<&Self>; 4], _: &()) -> SphereFour {
+        let cols =
+            four.map(|s| s.map_or([0.0; 4], |s| [s.center.x, s.center.y, s.center.z, s.radius]));
+        SphereFour(LaneMat::from_cols_array_2d(&cols).transpose())
+    }
+
+    /// The rejection of `closest_hits`, read from the packed lanes.
+    #[inline(always)]
+    fn four_may_hit(four: &SphereFour, ray: &SphereRay) -> u32 {
+        ray.may_hit_packed(four)
+    }
 
     #[inline]
     fn ray_data(ray: &Ray) -> SphereRay {

@@ -1,4 +1,4 @@
-use super::{overlap, unit_or, Shear, Surface, SurfacePoint};
+use super::{overlap, unit_or, Shear, Surface, SurfacePoint, TriangleFour};
 use gridrt_bbox::math::Lanes;
 use gridrt_bbox::{gamma, Aabb, Ray, Real, Vec3};
 use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primitive};
@@ -343,9 +343,24 @@ impl Primitive for Triangle {
     /// The ray's shear frame.
     type RayData = Shear;
 
+    /// Four triangles coordinate by coordinate.
+    type Four = TriangleFour;
+
+    const PACKS_FOUR: bool = true;
+
     #[inline]
     fn ray_data(ray: &Ray) -> Shear {
         Shear::new(ray)
+    }
+
+    fn pack_four(four: [Option<&Self>; 4], _: &()) -> TriangleFour {
+        TriangleFour::new(four.map(|t| t.map(Self::vertices)))
+    }
+
+    /// The rejection of `closest_hits`, read from the packed rows.
+    #[inline(always)]
+    fn four_may_hit(four: &TriangleFour, shear: &Shear) -> u32 {
+        shear.four_may_hit(four)
     }
 
     #[inline]

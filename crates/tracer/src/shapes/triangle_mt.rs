@@ -76,6 +76,7 @@ impl Primitive for MtTriangle {
 
     /// Nothing is computed once per ray.
     type RayData = ();
+    type Four = ();
 
     #[inline]
     fn ray_data(_: &Ray) {}
