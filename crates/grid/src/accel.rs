@@ -136,7 +136,7 @@ pub trait Primitive: Sync {
     /// what an accelerator may keep beside references it tests together,
     /// so that testing four needs no gathering (a grid without cells keeps
     /// its primitives so). `()` for primitives without such a layout.
-    type Four: Copy + Default + Send + Sync + std::fmt::Debug;
+    type Four: Copy + Default + PartialEq + Send + Sync + std::fmt::Debug;
 
     /// Whether [`pack_four`](Self::pack_four) lays primitives out for
     /// [`four_may_hit`](Self::four_may_hit); when `false` (the default)

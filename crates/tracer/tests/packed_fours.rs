@@ -25,13 +25,15 @@ fn ray() -> impl Strategy<Value = Ray> {
         .prop_map(|(o, d)| Ray::new(o * 3.0, d))
 }
 
-/// The same answers, hit for hit: primitive, `t`, `u` and `v` bit for bit,
-/// and the same any-hit verdicts over two ranges.
+/// A sound grid (its packing included) with the same answers, hit for
+/// hit: primitive, `t`, `u` and `v` bit for bit, and the same any-hit
+/// verdicts over two ranges.
 fn same<P: Primitive>(
     grid: &Grid<P>,
     ex: &Exhaustive<P>,
     rays: &[Ray],
 ) -> Result<(), TestCaseError> {
+    prop_assert_eq!(grid.check_invariants(), Ok(()));
     let (mut gs, mut es) = (grid.scratch(), ex.scratch());
     for r in rays {
         let g = grid.closest_hit(r, 0.0, Real::INFINITY, &mut gs);

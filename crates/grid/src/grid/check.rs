@@ -1,5 +1,6 @@
 //! The grid's self-checks, for tests.
 
+use super::fours::pack_fours;
 use super::{Cells, Grid};
 use crate::dda::BlockMap;
 use crate::{morton, Primitive};
@@ -148,6 +149,10 @@ impl<P: Primitive> Grid<P> {
         let runs_of: Vec<(u32, u32)> = runs.iter().map(|r| (r.2, r.3)).collect();
         self.groups
             .check(&self.prims, &self.shared, &self.refs, &runs_of, g.pad)?;
+        if !self.fours.is_empty() && self.fours != pack_fours(&self.prims, &self.shared, &self.refs)
+        {
+            return Err("the packed fours disagree with the references".into());
+        }
         // Expected (cell, primitive) pairs against the stored ones.
         let mut stored: Vec<([u32; 3], u32)> = Vec::with_capacity(self.refs.len());
         for &(_, idx, s, len) in &runs {
