@@ -26,10 +26,22 @@ pub(super) fn pack_fours<P: Primitive>(
         .collect()
 }
 
-/// The lanes of a four of `len` primitives that hold one.
+/// The slots of `refs` (at most four, packed in `four`) that the
+/// packing's rejection ([`Primitive::four_may_hit`]) keeps, in order.
 #[inline(always)]
-fn lanes(len: usize) -> u32 {
-    (1 << len.min(4)) - 1
+fn kept<'a, P: Primitive>(
+    four: &P::Four,
+    data: &P::RayData,
+    refs: &'a [u32],
+) -> impl Iterator<Item = u32> + 'a {
+    let mut pass = P::four_may_hit(four, data) & ((1u32 << refs.len().min(4)) - 1);
+    std::iter::from_fn(move || {
+        (pass != 0).then(|| {
+            let r = refs[pass.trailing_zeros() as usize];
+            pass &= pass - 1;
+            r
+        })
+    })
 }
 
 impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
@@ -40,10 +52,7 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
     pub(super) fn test_fours(&mut self, fours: &[P::Four], refs: &[u32]) {
         self.counters.tests(refs.len());
         for (four, chunk) in fours.iter().zip(refs.chunks(4)) {
-            let mut pass = P::four_may_hit(four, self.data) & lanes(chunk.len());
-            while pass != 0 {
-                let r = chunk[pass.trailing_zeros() as usize];
-                pass &= pass - 1;
+            for r in kept::<P>(four, self.data, chunk) {
                 // SAFETY: every stored reference is a valid index into
                 // `prims` (checked by `check_invariants`).
                 let prim = unsafe { self.prims.get_unchecked(r as usize) };
@@ -72,14 +81,7 @@ pub(super) fn any_in_fours<P: Primitive>(
     t_max: Real,
 ) -> bool {
     fours.iter().zip(refs.chunks(4)).any(|(four, chunk)| {
-        let mut pass = P::four_may_hit(four, data) & lanes(chunk.len());
-        while pass != 0 {
-            let r = chunk[pass.trailing_zeros() as usize];
-            pass &= pass - 1;
-            if prims[r as usize].any_hit(shared, ray, data, t_min, t_max) {
-                return true;
-            }
-        }
-        false
+        kept::<P>(four, data, chunk)
+            .any(|r| prims[r as usize].any_hit(shared, ray, data, t_min, t_max))
     })
 }

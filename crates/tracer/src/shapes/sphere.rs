@@ -30,6 +30,13 @@ pub struct Sphere {
 }
 
 impl Sphere {
+    /// The centre's x, y and z and the radius: the sphere's column of a
+    /// [`SphereFour`].
+    #[inline(always)]
+    fn lanes(&self) -> [Real; 4] {
+        [self.center.x, self.center.y, self.center.z, self.radius]
+    }
+
     /// A sphere from its centre and radius.
     #[inline]
     #[must_use]
@@ -103,6 +110,14 @@ impl Sphere {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SphereFour(LaneMat);
 
+impl SphereFour {
+    /// Four spheres from their [`Sphere::lanes`], one column each.
+    #[inline(always)]
+    fn new(cols: [[Real; 4]; 4]) -> Self {
+        Self(LaneMat::from_cols_array_2d(&cols).transpose())
+    }
+}
+
 /// What the four-at-a-time test of [`Sphere`]s needs of a ray, computed
 /// once per query rather than once per cell: the origin and direction
 /// spread over the lanes, and `d · d`.
@@ -120,11 +135,7 @@ impl SphereRay {
     /// operations in the same order, so lane by lane the very same verdict.
     #[inline(always)]
     fn may_hit(&self, four: [&Sphere; 4]) -> u32 {
-        let c = LaneMat::from_cols_array_2d(
-            &four.map(|s| [s.center.x, s.center.y, s.center.z, s.radius]),
-        )
-        .transpose();
-        self.may_hit_packed(&SphereFour(c))
+        self.may_hit_packed(&SphereFour::new(four.map(Sphere::lanes)))
     }
 
     /// [`Self::may_hit`] for four spheres packed in lanes.
@@ -159,9 +170,7 @@ impl Primitive for Sphere {
     const PACKS_FOUR: bool = true;
 
     fn pack_four(four: [Option<&Self>; 4], _: &()) -> SphereFour {
-        let cols =
-            four.map(|s| s.map_or([0.0; 4], |s| [s.center.x, s.center.y, s.center.z, s.radius]));
-        SphereFour(LaneMat::from_cols_array_2d(&cols).transpose())
+        SphereFour::new(four.map(|s| s.map_or([0.0; 4], Sphere::lanes)))
     }
 
     /// The rejection of `closest_hits`, read from the packed lanes.
