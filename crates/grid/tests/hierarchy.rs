@@ -165,6 +165,26 @@ proptest! {
         small.extend(others);
         check_cluster(Vec3::new(-2.0, 0.0, 1.0), 0.5, 200.0, &small, &aims);
     }
+
+    #[test]
+    fn long_slivers_through_a_dense_cluster(
+        small in prop::collection::vec(points3().prop_map(|p| p.map(|q| q.map(|x| x * 0.05))), 20..120),
+        slivers in prop::collection::vec(points3(), 1..60),
+        aims in aims(12),
+    ) {
+        // Slivers 600 units long and a thousandth wide, each through the
+        // cluster's box: they cross the crowded cell and every cell on their
+        // way, tested on entry while few and nested with the cluster when
+        // many.
+        let mut all = small;
+        for [dir, at, width] in slivers {
+            let d = Vec3::from_array(dir).try_normalize().unwrap_or(Vec3::X) * 300.0;
+            let at = Vec3::from_array(at) * 0.05;
+            let w = Vec3::from_array(width) * 0.001;
+            all.push([(at - d).to_array(), (at + d).to_array(), (at + w).to_array()]);
+        }
+        check_cluster(Vec3::new(0.3, 0.1, -0.2), 1.0, 500.0, &all, &aims);
+    }
 }
 
 #[test]
