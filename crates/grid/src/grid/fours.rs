@@ -53,6 +53,9 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
         self.counters.tests(refs.len());
         for (four, chunk) in fours.iter().zip(refs.chunks(4)) {
             for r in kept::<P>(four, self.data, chunk) {
+                // The body of `Closest::test` without its count, written out:
+                // a helper shared with `test` compiled to 10% more
+                // instructions on the Cornell box's camera rays.
                 // SAFETY: every stored reference is a valid index into
                 // `prims` (checked by `check_invariants`).
                 let prim = unsafe { self.prims.get_unchecked(r as usize) };
