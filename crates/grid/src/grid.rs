@@ -6,7 +6,7 @@ use crate::counters::{Counters, NoCounters};
 use crate::dda::{BlockMap, CellFn, CellIter, CellLookup, CellVisit, Dda};
 use crate::empty_space;
 use crate::geom::{self, Geom};
-use crate::groups::{Groups, GROUP_MIN_REFS};
+use crate::groups::{Groups, Run, GROUP_MIN_REFS};
 use crate::nested::{NestParams, Nested};
 use crate::{morton, Accelerator, CellStorage, GridConfig, GridStats, Hit, Primitive};
 use gridrt_bbox::{Aabb, Ray, Real};
@@ -363,19 +363,19 @@ impl<P: Primitive> Grid<P> {
     /// references without a nested grid, when they fit in what `budget`
     /// leaves (none otherwise).
     fn group_boxes(&self, budget: usize) -> Groups {
-        let mut runs: Vec<(u32, u32)> = self
+        let mut runs: Vec<Run> = self
             .cells
             .runs(self.geom.dims, GROUP_MIN_REFS)
             .into_iter()
             .filter(|&(_, s, len)| self.nested.root.find(len as usize, s).is_none())
-            .map(|(_, s, len)| (s, len))
+            .map(|(idx, s, len)| (s, len, idx))
             .collect();
         runs.sort_unstable();
         let bytes = Groups::bytes_for(self.refs.len(), &runs);
         if self.index_bytes() + bytes > budget {
             return Groups::default();
         }
-        Groups::build(&self.prims, &self.shared, &self.refs, &runs, self.geom.pad)
+        Groups::build(&self.prims, &self.shared, &self.refs, &runs, &self.geom)
     }
 
     /// Heap bytes of the grid's index: everything but the primitives.

@@ -96,8 +96,49 @@ fn groups_cut_the_tests_per_ray_and_stay_in_the_budget() {
     assert!(with.stats().bytes > without.stats().bytes);
     let (tw, tn) = (tests(&with), tests(&without));
     assert!(2 * tw < tn, "with groups {tw} tests, without {tn}");
-    // A budget that the flat grid fills leaves no room for groups.
-    let tight = build(true, Some(without.stats().bytes));
-    assert_eq!(tight.stats().grouped_cells, 0);
-    assert!(tight.stats().bytes <= without.stats().bytes);
+}
+
+#[test]
+fn groups_stay_in_the_memory_budget() {
+    // Long slivers across a cube: many references a primitive, so that the
+    // grid outgrows the floor of the budget (16 bytes a primitive).
+    let mut rng = Lcg::new(3);
+    let mut point = || {
+        Vec3::new(
+            rng.range(0.0, 1.0),
+            rng.range(0.0, 1.0),
+            rng.range(0.0, 1.0),
+        )
+    };
+    let slivers: Vec<Triangle> = (0..600)
+        .map(|_| {
+            let (a, b) = (point(), point());
+            Triangle::new(a, b, b + Vec3::splat(1e-3))
+        })
+        .collect();
+    let build = |cell_groups, memory_budget| {
+        let config = GridConfig {
+            m: 0.5,
+            auto: false,
+            cell_groups,
+            memory_budget,
+            ..GridConfig::default()
+        };
+        Grid::build(slivers.clone(), &config)
+    };
+    let with = build(true, None);
+    assert!(with.stats().grouped_cells > 0);
+    // Budgets short of the grid with groups: the build keeps to each,
+    // dropping the groups, the distance map or cells.
+    let floor = 16 * slivers.len() + 4096;
+    assert!(with.stats().bytes > floor + 1000);
+    for budget in (floor..with.stats().bytes).step_by(997) {
+        let tight = build(true, Some(budget));
+        assert_eq!(tight.stats().budget, budget);
+        assert!(
+            tight.stats().bytes <= budget,
+            "{} > {budget}",
+            tight.stats().bytes
+        );
+    }
 }

@@ -22,11 +22,12 @@
 //! free, each can cost the host a fault as well. A render frees large
 //! temporaries (a grid build's sort buffers) shortly before it asks for
 //! blocks as large (the primitives in cell order), so it touches about a
-//! fifth less fresh memory. Kept pages do not raise the peak memory of
-//! large blocks: a new block takes kept pages before it maps fresh ones,
-//! and a block that grows in place unmaps as many kept pages as it grows
-//! by (the system allocator's small blocks, which never see them, are the
-//! exception). [`HugePageAlloc::release_kept`] returns them all to the
+//! fifth less fresh memory. Kept pages do not raise the peak memory: a new
+//! large block takes kept pages before it maps fresh ones,
+//! a block that grows in place unmaps as many kept pages as it grows by,
+//! and so does a rise of the small blocks' high-water mark (the bytes of
+//! the system allocator's blocks are counted per thread, and added up
+//! every 256 KiB). [`HugePageAlloc::release_kept`] returns them all to the
 //! system.
 //!
 //! ```
@@ -93,6 +94,9 @@ mod large {
         runs: [(usize, usize); RUNS],
         len: usize,
         bytes: usize,
+        /// Growth of the small blocks' high-water mark not yet answered
+        /// by unmapping kept pages.
+        owed: usize,
     }
 
     impl Kept {
@@ -129,6 +133,7 @@ mod large {
         runs: [(0, 0); RUNS],
         len: 0,
         bytes: 0,
+        owed: 0,
     });
 
     fn kept() -> MutexGuard<'static, Kept> {
@@ -138,6 +143,28 @@ mod large {
     /// Bytes of freed pages kept for reuse now.
     pub(super) fn kept_bytes() -> usize {
         kept().bytes
+    }
+
+    /// The small blocks' high-water mark grew by `bytes`: while pages are
+    /// kept, as many are unmapped (a whole page once 2 MiB are owed), so
+    /// that the heap's growth does not stack on top of them.
+    pub(super) fn small_grew(bytes: usize) {
+        let mut k = kept();
+        if k.len == 0 {
+            k.owed = 0;
+            return;
+        }
+        k.owed += bytes;
+        while k.owed >= HUGE {
+            let (start, n) = k.take(1);
+            if n == 0 {
+                k.owed = 0;
+                return;
+            }
+            k.owed -= HUGE;
+            // SAFETY: the page is ours alone, and no longer kept.
+            unsafe { libc::munmap(start as *mut libc::c_void, HUGE) };
+        }
     }
 
     /// Unmaps kept pages, at least `bytes` of them (or all there are).
@@ -333,6 +360,46 @@ mod large {
     }
 }
 
+/// Small blocks' bytes are counted per thread and added to the process's
+/// count once this many have gathered.
+const SMALL_FLUSH: isize = 256 << 10;
+
+thread_local! {
+    /// This thread's small-block bytes not yet added to [`SMALL_LIVE`].
+    static SMALL_PENDING: std::cell::Cell<isize> = const { std::cell::Cell::new(0) };
+}
+
+/// Live bytes of small blocks (the system allocator's), give or take
+/// [`SMALL_FLUSH`] a thread.
+static SMALL_LIVE: std::sync::atomic::AtomicIsize = std::sync::atomic::AtomicIsize::new(0);
+/// The highest [`SMALL_LIVE`] so far.
+static SMALL_HIGH: std::sync::atomic::AtomicIsize = std::sync::atomic::AtomicIsize::new(0);
+
+/// Counts `delta` bytes of small blocks allocated (or freed, if
+/// negative); when their high-water mark rises, as many kept pages are
+/// given back, so that kept pages do not raise the peak memory.
+#[inline(always)]
+fn count_small(delta: isize) {
+    use std::sync::atomic::Ordering::Relaxed;
+    // A thread being torn down has no counter left: its blocks go uncounted.
+    let _ = SMALL_PENDING.try_with(|pending| {
+        let v = pending.get() + delta;
+        if v.abs() < SMALL_FLUSH {
+            pending.set(v);
+            return;
+        }
+        pending.set(0);
+        let live = SMALL_LIVE.fetch_add(v, Relaxed) + v;
+        let high = SMALL_HIGH.fetch_max(live, Relaxed);
+        #[cfg(target_os = "linux")]
+        if live > high {
+            large::small_grew((live - high) as usize);
+        }
+        #[cfg(not(target_os = "linux"))]
+        let _ = high;
+    });
+}
+
 /// Whether a block of `layout` is mapped on its own.
 #[cfg(target_os = "linux")]
 fn is_large(layout: &Layout) -> bool {
@@ -355,6 +422,7 @@ unsafe impl GlobalAlloc for HugePageAlloc {
         if is_large(&layout) {
             return large::map(layout.size(), false);
         }
+        count_small(layout.size() as isize);
         // SAFETY: the caller's (a non-zero size).
         unsafe { System.alloc(layout) }
     }
@@ -364,6 +432,7 @@ unsafe impl GlobalAlloc for HugePageAlloc {
         if is_large(&layout) {
             return large::map(layout.size(), true);
         }
+        count_small(layout.size() as isize);
         // SAFETY: the caller's (a non-zero size).
         unsafe { System.alloc_zeroed(layout) }
     }
@@ -374,6 +443,7 @@ unsafe impl GlobalAlloc for HugePageAlloc {
             // SAFETY: the caller's: `p` is a live block of `layout`.
             return unsafe { large::unmap(p, layout.size()) };
         }
+        count_small(-(layout.size() as isize));
         // SAFETY: the caller's: a small block is the system allocator's.
         unsafe { System.dealloc(p, layout) }
     }
@@ -383,8 +453,11 @@ unsafe impl GlobalAlloc for HugePageAlloc {
         // does not overflow, and the alignment is a power of two.
         let new = unsafe { Layout::from_size_align_unchecked(new_size, layout.align()) };
         match (is_large(&layout), is_large(&new)) {
-            // SAFETY: the caller's, as for `System`.
-            (false, false) => return unsafe { System.realloc(p, layout, new_size) },
+            (false, false) => {
+                count_small(new_size as isize - layout.size() as isize);
+                // SAFETY: the caller's, as for `System`.
+                return unsafe { System.realloc(p, layout, new_size) };
+            }
             #[cfg(target_os = "linux")]
             (true, true) => {
                 // SAFETY: the caller's: `p` is a live block of `layout`.

@@ -146,9 +146,9 @@ impl<P: Primitive> Grid<P> {
             }
         }
         self.check_nested()?;
-        let runs_of: Vec<(u32, u32)> = runs.iter().map(|r| (r.2, r.3)).collect();
+        let runs_of: Vec<crate::groups::Run> = runs.iter().map(|r| (r.2, r.3, r.1)).collect();
         self.groups
-            .check(&self.prims, &self.shared, &self.refs, &runs_of, g.pad)?;
+            .check(&self.prims, &self.shared, &self.refs, &runs_of, g)?;
         if !self.fours.is_empty() && self.fours != pack_fours(&self.prims, &self.shared, &self.refs)
         {
             return Err("the packed fours disagree with the references".into());

@@ -4,7 +4,7 @@
 use super::EXIT_MARGIN;
 use crate::counters::Counters;
 use crate::dda::{CellFn, CellVisit, Dda};
-use crate::groups::{GroupBlock, Groups, RaySlabs};
+use crate::groups::{Frame, GroupBlock, Groups, RaySlabs};
 use crate::nested::{Children, Sub};
 use crate::{Hit, Primitive};
 use gridrt_bbox::{Ray, Real};
@@ -162,8 +162,8 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for Closest<'_, P
             // SAFETY: `Children::find` returns arena indices of `subs`
             // (checked by `check_invariants`).
             self.walk_sub(unsafe { self.subs.get_unchecked(i) }, refs);
-        } else if let Some(blocks) = self.groups.and_then(|g| g.of(refs.len(), start)) {
-            self.test_groups(blocks, refs);
+        } else if let Some((frame, blocks)) = self.groups.and_then(|g| g.of(refs.len(), start)) {
+            self.test_groups(frame, blocks, refs);
         } else {
             self.test_refs(refs);
         }
@@ -184,10 +184,10 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
     /// Tests the groups of a cell's `refs` whose boxes `blocks` the ray
     /// meets before the best hit so far.
     #[inline(always)]
-    fn test_groups(&mut self, blocks: &[GroupBlock], refs: &[u32]) {
+    fn test_groups(&mut self, frame: &Frame, blocks: &[GroupBlock], refs: &[u32]) {
         let slabs = RaySlabs::new(self.ray);
         let (t_min, t_lim) = (self.t_min, self.t_lim);
-        let _ = for_met_groups(blocks, refs, &slabs, t_min, t_lim, |group| {
+        let _ = for_met_groups(frame, blocks, refs, &slabs, t_min, t_lim, |group| {
             self.test_refs(group);
             ControlFlow::<(), Real>::Continue(self.t_lim)
         });
@@ -254,8 +254,8 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for AnyHit<'_, P,
             // SAFETY: as in the closest-hit query.
             return self.walk_sub(unsafe { self.subs.get_unchecked(i) }, refs);
         }
-        if let Some(blocks) = self.groups.and_then(|g| g.of(refs.len(), start)) {
-            return self.test_groups(blocks, refs);
+        if let Some((frame, blocks)) = self.groups.and_then(|g| g.of(refs.len(), start)) {
+            return self.test_groups(frame, blocks, refs);
         }
         self.test_refs(refs)
     }
@@ -265,10 +265,15 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
     /// Tests the groups of a cell's `refs` whose boxes `blocks` the ray
     /// meets within the range, until one is hit.
     #[inline(always)]
-    fn test_groups(&mut self, blocks: &[GroupBlock], refs: &[u32]) -> ControlFlow<()> {
+    fn test_groups(
+        &mut self,
+        frame: &Frame,
+        blocks: &[GroupBlock],
+        refs: &[u32],
+    ) -> ControlFlow<()> {
         let slabs = RaySlabs::new(self.ray);
         let (t_min, t_max) = (self.t_min, self.t_max);
-        for_met_groups(blocks, refs, &slabs, t_min, t_max, |group| {
+        for_met_groups(frame, blocks, refs, &slabs, t_min, t_max, |group| {
             self.test_refs(group)?;
             ControlFlow::Continue(t_max)
         })
@@ -350,11 +355,12 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
 }
 
 /// Calls `f` with each group of four of a cell's `refs` (the last may be
-/// shorter) whose box in `blocks` the ray of `slabs` meets within
+/// shorter) whose box in `blocks` (on `frame`) the ray of `slabs` meets within
 /// `[t_min, t_max]`, in order, until `f` breaks; `f` gives the range's new
 /// end, so a closer hit culls the blocks after it.
 #[inline(always)]
 fn for_met_groups<B>(
+    frame: &Frame,
     blocks: &[GroupBlock],
     refs: &[u32],
     slabs: &RaySlabs,
@@ -363,10 +369,11 @@ fn for_met_groups<B>(
     mut f: impl FnMut(&[u32]) -> ControlFlow<B, Real>,
 ) -> ControlFlow<B> {
     let groups = refs.len().div_ceil(4);
+    let frame = frame.lanes();
     for (b, block) in blocks.iter().enumerate() {
         let left = groups - 4 * b;
         let valid = if left >= 4 { 0xf } else { (1u32 << left) - 1 };
-        let mut met = block.hit_mask(slabs, t_min, t_max) & valid;
+        let mut met = block.hit_mask(&frame, slabs, t_min, t_max) & valid;
         while met != 0 {
             let g = 4 * b + met.trailing_zeros() as usize;
             met &= met - 1;
