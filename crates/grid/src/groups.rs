@@ -80,15 +80,22 @@ impl Frame {
         self.base[a] + Real::from(q) * self.step[a]
     }
 
-    /// The byte of the highest plane at or below `x` (`x` at or above
-    /// `base`).
-    fn below(&self, a: usize, x: Real) -> u8 {
-        let guess = if self.step[a] > 0.0 {
-            ((x - self.base[a]) / self.step[a]).floor()
+    /// Where `x` lies in steps of axis `a` from the base (0 on an axis
+    /// of no extent), rounded by `round` and clamped to the bytes: a
+    /// first guess, which rounding may leave a step off.
+    fn guess(&self, a: usize, x: Real, round: fn(Real) -> Real) -> u8 {
+        let steps = if self.step[a] > 0.0 {
+            round((x - self.base[a]) / self.step[a])
         } else {
             0.0
         };
-        let mut q = guess.clamp(0.0, Real::from(STEPS)) as u8;
+        steps.clamp(0.0, Real::from(STEPS)) as u8
+    }
+
+    /// The byte of the highest plane at or below `x` (`x` at or above
+    /// `base`).
+    fn below(&self, a: usize, x: Real) -> u8 {
+        let mut q = self.guess(a, x, Real::floor);
         while q > 0 && self.plane(a, q) > x {
             q -= 1;
         }
@@ -98,12 +105,7 @@ impl Frame {
     /// The byte of the lowest plane at or above `x` (`x` at most the
     /// span's max).
     fn above(&self, a: usize, x: Real) -> u8 {
-        let guess = if self.step[a] > 0.0 {
-            ((x - self.base[a]) / self.step[a]).ceil()
-        } else {
-            0.0
-        };
-        let mut q = guess.clamp(0.0, Real::from(STEPS)) as u8;
+        let mut q = self.guess(a, x, Real::ceil);
         while q < STEPS && self.plane(a, q) < x {
             q += 1;
         }
@@ -253,10 +255,11 @@ impl Groups {
         let mut boxes = Vec::new();
         for &(start, len, idx) in runs {
             let run = &refs[start as usize..(start + len) as usize];
+            let cell = geom.padded_cell_box(idx);
             boxes.clear();
             boxes.extend(
                 run.chunks(4)
-                    .map(|group| clipped_box(prims, shared, group, geom, idx)),
+                    .map(|group| clipped_box(prims, shared, group, geom, &cell)),
             );
             // A cell of absurd extent (past `Real::MAX / 255`) keeps none.
             let span = boxes.iter().fold(Aabb::EMPTY, |u, b| u.union(*b));
@@ -341,8 +344,9 @@ impl Groups {
             };
             cells += 1;
             let run = &refs[start as usize..(start + len) as usize];
+            let cell = geom.padded_cell_box(idx);
             for (g, group) in run.chunks(4).enumerate() {
-                let want = clipped_box(prims, shared, group, geom, idx);
+                let want = clipped_box(prims, shared, group, geom, &cell);
                 let have = blocks[g / 4].decoded(frame, g % 4);
                 for a in 0..3 {
                     if !(have.min[a] <= want.min[a] && want.max[a] <= have.max[a]) {
@@ -372,18 +376,17 @@ impl Groups {
 }
 
 /// The box of the primitives of `group` widened by the pad of `geom`,
-/// clipped to the padded box of cell `idx`.
+/// clipped to `cell`, their cell's padded box.
 fn clipped_box<P: Primitive>(
     prims: &[P],
     shared: &P::Shared,
     group: &[u32],
     geom: &Geom,
-    idx: [u32; 3],
+    cell: &Aabb,
 ) -> Aabb {
     let b = group.iter().fold(Aabb::EMPTY, |b, &r| {
         b.union(prims[r as usize].bounds(shared))
     });
-    let cell = geom.padded_cell_box(idx);
     let w = geom.widen(&b);
     let clipped = Aabb::new(w.min.max(cell.min), w.max.min(cell.max));
     // Not empty for a primitive of the cell; should rounding make it so,
@@ -391,7 +394,7 @@ fn clipped_box<P: Primitive>(
     if clipped.min.cmple(clipped.max).all() {
         clipped
     } else {
-        cell
+        *cell
     }
 }
 

@@ -78,13 +78,13 @@ impl HugePageAlloc {
 
 #[cfg(target_os = "linux")]
 mod large {
+    use super::MAX_KEPT;
     use std::sync::{Mutex, MutexGuard, PoisonError};
 
     /// Huge page size on x86-64 and (with 4 KiB pages) aarch64.
     const HUGE: usize = 2 << 20;
     /// The alignment every mapping has (the smallest page size).
     pub(super) const PAGE: usize = 4096;
-    use super::MAX_KEPT;
     /// At most this many runs of them (a freed block gives one run).
     const RUNS: usize = 64;
 
@@ -149,22 +149,14 @@ mod large {
     /// kept, as many are unmapped (a whole page once 2 MiB are owed), so
     /// that the heap's growth does not stack on top of them.
     pub(super) fn small_grew(bytes: usize) {
-        let mut k = kept();
-        if k.len == 0 {
-            k.owed = 0;
-            return;
-        }
-        k.owed += bytes;
-        while k.owed >= HUGE {
-            let (start, n) = k.take(1);
-            if n == 0 {
-                k.owed = 0;
-                return;
-            }
-            k.owed -= HUGE;
-            // SAFETY: the page is ours alone, and no longer kept.
-            unsafe { libc::munmap(start as *mut libc::c_void, HUGE) };
-        }
+        let due = {
+            let mut k = kept();
+            k.owed = if k.len == 0 { 0 } else { k.owed + bytes };
+            let due = k.owed - k.owed % HUGE;
+            k.owed -= due;
+            due
+        };
+        release_kept(due);
     }
 
     /// Unmaps kept pages, at least `bytes` of them (or all there are).
@@ -362,22 +354,27 @@ mod large {
 
 /// Small blocks' bytes are counted per thread and added to the process's
 /// count once this many have gathered.
+#[cfg(target_os = "linux")]
 const SMALL_FLUSH: isize = 256 << 10;
 
 thread_local! {
+    #[cfg(target_os = "linux")]
     /// This thread's small-block bytes not yet added to [`SMALL_LIVE`].
     static SMALL_PENDING: std::cell::Cell<isize> = const { std::cell::Cell::new(0) };
 }
 
 /// Live bytes of small blocks (the system allocator's), give or take
 /// [`SMALL_FLUSH`] a thread.
+#[cfg(target_os = "linux")]
 static SMALL_LIVE: std::sync::atomic::AtomicIsize = std::sync::atomic::AtomicIsize::new(0);
 /// The highest [`SMALL_LIVE`] so far.
+#[cfg(target_os = "linux")]
 static SMALL_HIGH: std::sync::atomic::AtomicIsize = std::sync::atomic::AtomicIsize::new(0);
 
 /// Counts `delta` bytes of small blocks allocated (or freed, if
 /// negative); when their high-water mark rises, as many kept pages are
 /// given back, so that kept pages do not raise the peak memory.
+#[cfg(target_os = "linux")]
 #[inline(always)]
 fn count_small(delta: isize) {
     use std::sync::atomic::Ordering::Relaxed;
@@ -391,14 +388,16 @@ fn count_small(delta: isize) {
         pending.set(0);
         let live = SMALL_LIVE.fetch_add(v, Relaxed) + v;
         let high = SMALL_HIGH.fetch_max(live, Relaxed);
-        #[cfg(target_os = "linux")]
         if live > high {
             large::small_grew((live - high) as usize);
         }
-        #[cfg(not(target_os = "linux"))]
-        let _ = high;
     });
 }
+
+/// Elsewhere no pages are kept, so there is nothing to count.
+#[cfg(not(target_os = "linux"))]
+#[inline(always)]
+fn count_small(_: isize) {}
 
 /// Whether a block of `layout` is mapped on its own.
 #[cfg(target_os = "linux")]
