@@ -18,11 +18,11 @@
 //! of the grid the formula gives for all `n` (on an evenly spaced sample
 //! of at most [`SAMPLE`] primitives, so the count costs the same on every
 //! scene): a cell is crowded when its estimated count reaches
-//! [`crate::cost::min_refs`], the fewest references a nested grid can pay
-//! for. The top grid is sized for the smaller count only when that is at
-//! most a quarter of `n` ([`MIN_GAIN`]): a scene without a clear crowd keeps
-//! the lecture's grid (Suffern's random spheres, whose densest cells hold
-//! about a dozen, are not touched).
+//! [`crate::cost::min_refs`], the fewest references the build plans a
+//! nested grid for. The top grid is sized for the smaller count only when
+//! that is at most a quarter of `n` ([`MIN_GAIN`]): a scene without a clear
+//! crowd keeps the lecture's grid (Suffern's random spheres, whose densest
+//! cells hold about a dozen, are not touched).
 
 use crate::geom::{self, gridded, Geom};
 use crate::Primitive;

@@ -298,6 +298,7 @@ impl<P: Primitive> Grid<P> {
             parallel: config.parallel_build,
             slab: config.slab,
             cost,
+            groups: config.cell_groups,
         };
         let nested = Nested::build(
             &grid.prims,
@@ -408,9 +409,8 @@ impl<P: Primitive> Grid<P> {
     /// The `nest_min_refs` of this build, and whether the cost model
     /// decides cell by cell: the configured one, or, with
     /// [`GridConfig::auto`] and none configured, the fewest references
-    /// for which the cost model lets a nested grid pay
-    /// ([`crate::cost::min_refs`]), if some cell reaches it (0: no
-    /// nesting).
+    /// the build plans a nested grid for ([`crate::cost::min_refs`]), if
+    /// some cell reaches it (0: no nesting).
     fn nest_threshold(&self, occupied: u64, max_refs: u32) -> (u32, bool) {
         let c = &self.config;
         if c.nest_min_refs > 0 || !c.auto || occupied == 0 {

@@ -75,6 +75,7 @@ mod check;
 use crate::cells::dense_occupancy;
 use crate::cost;
 use crate::geom::{self, Geom, Reach, PAD_ULPS};
+use crate::groups::GROUP_MIN_REFS;
 use crate::par::map_indices;
 use crate::{NestLevel, Primitive};
 use gridrt_bbox::{Aabb, Real};
@@ -157,6 +158,9 @@ pub(crate) struct NestParams {
     /// Build a nested grid only where the cost model expects it to pay
     /// ([`crate::GridConfig::auto`], [`crate::cost`]).
     pub cost: bool,
+    /// The outermost grid's crowded cells left flat get group boxes
+    /// ([`crate::GridConfig::cell_groups`]): the cost model weighs those.
+    pub groups: bool,
 }
 
 /// The nested grid of one crowded cell.
@@ -446,7 +450,8 @@ impl Nested {
                 let plans = map_indices(b1 - b0, p.parallel, |i| {
                     let c = &cands[b0 + i];
                     let (g, refs) = refs_of(c);
-                    plan(prims, shared, g, c.idx, refs, c.must_shrink, p)
+                    let grouped = p.groups && c.parent.is_none();
+                    plan(prims, shared, g, c.idx, refs, c.must_shrink, grouped, p)
                 });
                 // Granted in order, so the same grids are built whatever
                 // the threads and the batches.
@@ -560,25 +565,18 @@ impl Nested {
 /// detailed object's cell would otherwise stretch the nested grid over the
 /// whole cell, and the object would fall into a few nested cells again.
 /// Only when the direct ones are at most an eighth of the references:
-/// otherwise none. The third list holds the boxes of the second.
-fn split<'r, P: Primitive>(
-    prims: &[P],
-    shared: &P::Shared,
-    g: &Geom,
-    idx: [u32; 3],
+/// otherwise none. `boxes` are the references' boxes; the third list
+/// holds those of the second.
+fn split<'r>(
+    cell: &Aabb,
     refs: &'r [u32],
+    boxes: Vec<Aabb>,
 ) -> (Vec<u32>, Cow<'r, [u32]>, Vec<Aabb>) {
-    let cell = g.padded_cell_box(idx);
     let half = cell.extent() * 0.5;
     let spans = |b: &Aabb| {
         let e = b.max.min(cell.max) - b.min.max(cell.min);
         e.x >= half.x || e.y >= half.y || e.z >= half.z
     };
-    // Each box computed once: for the split and for the plan.
-    let boxes: Vec<Aabb> = refs
-        .iter()
-        .map(|&r| prims[r as usize].bounds(shared))
-        .collect();
     let spanning = boxes.iter().filter(|b| spans(b)).count();
     if spanning == 0 || spanning * 8 > refs.len() {
         return (Vec::new(), Cow::Borrowed(refs), boxes);
@@ -599,7 +597,9 @@ fn split<'r, P: Primitive>(
 
 /// Plans the nested grid of cell `idx` of grid `g`, whose references are
 /// `refs`; `None` when it would not separate them, or, with `must_shrink`,
-/// when they cover more than [`SHRINK`] of the cell's area.
+/// when they cover more than [`SHRINK`] of the cell's area. `grouped`:
+/// left flat, the cell would test its references by group boxes.
+#[allow(clippy::too_many_arguments)]
 fn plan<P: Primitive>(
     prims: &[P],
     shared: &P::Shared,
@@ -607,11 +607,26 @@ fn plan<P: Primitive>(
     idx: [u32; 3],
     refs: &[u32],
     must_shrink: bool,
+    grouped: bool,
     p: &NestParams,
 ) -> Option<Plan> {
-    let (direct, inner, boxes) = split(prims, shared, g, idx, refs);
-    let cell = cover(g, idx, boxes.iter().copied());
     let parent = g.padded_cell_box(idx);
+    // Each box computed once: for the flat cost, the split and the plan.
+    let all = boxes_of(prims, shared, refs);
+    // What a ray crossing the cell costs if it stays flat.
+    let flat = if p.cost && grouped && refs.len() >= GROUP_MIN_REFS {
+        cost::grouped(
+            &parent,
+            all.chunks(4).map(|four| {
+                let b = four.iter().fold(Aabb::EMPTY, |u, b| u.union(*b));
+                (clip(b, &parent), four.len())
+            }),
+        )
+    } else {
+        refs.len() as f64
+    };
+    let (direct, inner, boxes) = split(&parent, refs, all);
+    let cell = cover(g, idx, boxes.iter().copied());
     if must_shrink && geom::wide(cell.surface_area()) > SHRINK * geom::wide(parent.surface_area()) {
         return None;
     }
@@ -627,13 +642,8 @@ fn plan<P: Primitive>(
     let reach = Reach::new(&span, geom.pad, g.pad);
     let outer = g.widen(&cell);
     // Whether a grid holding `total` references pays, by the estimate.
-    let pays = |total: u64| {
-        !p.cost
-            || cost::pays(
-                refs.len(),
-                cost::nested(&parent, &geom, total, direct.len()),
-            )
-    };
+    let pays =
+        |total: u64| !p.cost || cost::pays(flat, cost::nested(&parent, &geom, total, direct.len()));
     let (offsets, ranges) = layout(&geom, &inner, &boxes, refs.len(), pays)?;
     // The chain of wide grids, coarsest first, each holding the next finer.
     let mut wide: Option<Box<Plan>> = None;
@@ -825,8 +835,21 @@ fn fill(plan: &Plan, start: u32, depth: u32) -> Sub {
 /// of these references lies in the cell along it, and the flat box left is
 /// as good as any.
 pub(crate) fn cover(g: &Geom, idx: [u32; 3], boxes: impl Iterator<Item = Aabb>) -> Aabb {
-    let union = boxes.fold(Aabb::EMPTY, Aabb::union);
-    let cell = g.padded_cell_box(idx);
-    let lo = cell.min.max(union.min);
-    Aabb::new(lo, cell.max.min(union.max).max(lo))
+    clip(
+        boxes.fold(Aabb::EMPTY, Aabb::union),
+        &g.padded_cell_box(idx),
+    )
+}
+
+/// The boxes of the references `refs`.
+fn boxes_of<P: Primitive>(prims: &[P], shared: &P::Shared, refs: &[u32]) -> Vec<Aabb> {
+    refs.iter()
+        .map(|&r| prims[r as usize].bounds(shared))
+        .collect()
+}
+
+/// Box `b` clipped to `cell`: flat where the two miss each other.
+fn clip(b: Aabb, cell: &Aabb) -> Aabb {
+    let lo = cell.min.max(b.min);
+    Aabb::new(lo, cell.max.min(b.max).max(lo))
 }

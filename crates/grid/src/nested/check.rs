@@ -1,6 +1,6 @@
 //! The nested grids' self-checks, for [`crate::Grid::check_invariants`].
 
-use super::{cover, pad_of, span_of, split, wide_chain, CellRuns, Children, Nested, Sub};
+use super::{boxes_of, cover, pad_of, span_of, split, wide_chain, CellRuns, Children, Nested, Sub};
 use crate::geom::{Geom, Reach};
 use crate::Primitive;
 
@@ -32,7 +32,8 @@ impl Nested {
                 return Err(format!("cell {idx:?}: nested grid {i} of another cell"));
             }
             let sg = &sub.geom;
-            let (direct, inner, boxes) = split(prims, shared, g, idx, refs);
+            let (direct, inner, boxes) =
+                split(&g.padded_cell_box(idx), refs, boxes_of(prims, shared, refs));
             if direct[..] != sub.direct[..] {
                 return Err(format!("cell {idx:?}: wrong references tested directly"));
             }
