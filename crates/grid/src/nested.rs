@@ -450,8 +450,7 @@ impl Nested {
                 let plans = map_indices(b1 - b0, p.parallel, |i| {
                     let c = &cands[b0 + i];
                     let (g, refs) = refs_of(c);
-                    let grouped = p.groups && c.parent.is_none();
-                    plan(prims, shared, g, c.idx, refs, c.must_shrink, grouped, p)
+                    plan(prims, shared, g, c, refs, p)
                 });
                 // Granted in order, so the same grids are built whatever
                 // the threads and the batches.
@@ -595,26 +594,25 @@ fn split<'r>(
     (direct, Cow::Owned(inner), inner_boxes)
 }
 
-/// Plans the nested grid of cell `idx` of grid `g`, whose references are
-/// `refs`; `None` when it would not separate them, or, with `must_shrink`,
-/// when they cover more than [`SHRINK`] of the cell's area. `grouped`:
-/// left flat, the cell would test its references by group boxes.
-#[allow(clippy::too_many_arguments)]
+/// Plans the nested grid of candidate cell `c` of grid `g`, whose
+/// references are `refs`; `None` when it would not separate them, or, if
+/// it must shrink, when they cover more than [`SHRINK`] of the cell's area.
 fn plan<P: Primitive>(
     prims: &[P],
     shared: &P::Shared,
     g: &Geom,
-    idx: [u32; 3],
+    c: &Candidate,
     refs: &[u32],
-    must_shrink: bool,
-    grouped: bool,
     p: &NestParams,
 ) -> Option<Plan> {
+    let idx = c.idx;
     let parent = g.padded_cell_box(idx);
     // Each box computed once: for the flat cost, the split and the plan.
     let all = boxes_of(prims, shared, refs);
-    // What a ray crossing the cell costs if it stays flat.
-    let flat = if p.cost && grouped && refs.len() >= GROUP_MIN_REFS {
+    // What a ray crossing the cell costs if it stays flat: in the flat
+    // grid, such a cell keeps group boxes.
+    let grouped = p.groups && c.parent.is_none() && refs.len() >= GROUP_MIN_REFS;
+    let flat = if p.cost && grouped {
         cost::grouped(
             &parent,
             all.chunks(4).map(|four| {
@@ -627,7 +625,8 @@ fn plan<P: Primitive>(
     };
     let (direct, inner, boxes) = split(&parent, refs, all);
     let cell = cover(g, idx, boxes.iter().copied());
-    if must_shrink && geom::wide(cell.surface_area()) > SHRINK * geom::wide(parent.surface_area()) {
+    if c.must_shrink && geom::wide(cell.surface_area()) > SHRINK * geom::wide(parent.surface_area())
+    {
         return None;
     }
     let e = cell.extent();
