@@ -35,6 +35,24 @@ fn rays(at: Vec3, size: Real, n: usize) -> Vec<Ray> {
         .collect()
 }
 
+/// The flat grid of `prims` with multiplier `m`, with or without group
+/// boxes, in `memory_budget` bytes (`None`: the default budget).
+fn flat_grid(
+    prims: &[Triangle],
+    m: Real,
+    cell_groups: bool,
+    memory_budget: Option<usize>,
+) -> Grid<Triangle> {
+    let config = GridConfig {
+        m,
+        auto: false,
+        cell_groups,
+        memory_budget,
+        ..GridConfig::default()
+    };
+    Grid::build(prims.to_vec(), &config)
+}
+
 fn configs() -> Vec<GridConfig> {
     let mut v = Vec::new();
     for storage in [CellStorage::Dense, CellStorage::Hashed] {
@@ -72,16 +90,7 @@ fn grouped_cells_answer_as_exhaustive_at_every_offset() {
 #[test]
 fn groups_cut_the_tests_per_ray_and_stay_in_the_budget() {
     let sheet = wavy_sheet(60, Vec3::ZERO, 1.0);
-    let build = |cell_groups, memory_budget| {
-        let config = GridConfig {
-            m: 0.3,
-            auto: false,
-            cell_groups,
-            memory_budget,
-            ..GridConfig::default()
-        };
-        Grid::build(sheet.clone(), &config)
-    };
+    let build = |cell_groups, memory_budget| flat_grid(&sheet, 0.3, cell_groups, memory_budget);
     let tests = |g: &Grid<Triangle>| {
         let mut c = QueryCounters::default();
         let mut s = g.scratch();
@@ -116,16 +125,7 @@ fn groups_stay_in_the_memory_budget() {
             Triangle::new(a, b, b + Vec3::splat(1e-3))
         })
         .collect();
-    let build = |cell_groups, memory_budget| {
-        let config = GridConfig {
-            m: 0.5,
-            auto: false,
-            cell_groups,
-            memory_budget,
-            ..GridConfig::default()
-        };
-        Grid::build(slivers.clone(), &config)
-    };
+    let build = |cell_groups, memory_budget| flat_grid(&slivers, 0.5, cell_groups, memory_budget);
     let with = build(true, None);
     assert!(with.stats().grouped_cells > 0);
     // Budgets short of the grid with groups: the build keeps to each,

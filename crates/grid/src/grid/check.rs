@@ -3,6 +3,7 @@
 use super::fours::pack_fours;
 use super::{Cells, Grid};
 use crate::dda::BlockMap;
+use crate::groups::Run;
 use crate::{morton, Primitive};
 
 impl<P: Primitive> Grid<P> {
@@ -146,7 +147,7 @@ impl<P: Primitive> Grid<P> {
             }
         }
         self.check_nested()?;
-        let runs_of: Vec<crate::groups::Run> = runs.iter().map(|r| (r.2, r.3, r.1)).collect();
+        let runs_of: Vec<Run> = runs.iter().map(|r| (r.2, r.3, r.1)).collect();
         self.groups
             .check(&self.prims, &self.shared, &self.refs, &runs_of, g)?;
         if !self.fours.is_empty() && self.fours != pack_fours(&self.prims, &self.shared, &self.refs)
