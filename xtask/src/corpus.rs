@@ -106,12 +106,15 @@ pub struct View {
 #[derive(Clone, Debug)]
 pub enum Source {
     /// A model file (OBJ, glTF, GLB), moved by `offset`; its own camera or
-    /// one framing it when `view` is `None`.
+    /// one framing it when `view` is `None`. With `floor`, the model
+    /// stands on a square of two triangles [`FLOOR_SIZE`] times its
+    /// longest extent across: a large, detailed object in a large scene.
     Model {
         file: PathBuf,
         offset: [f64; 3],
         views: Vec<(&'static str, Option<View>)>,
         props: bool,
+        floor: bool,
     },
     /// Suffern's `n` random spheres (seed 15), his 400×400 camera.
     Spheres(usize),
@@ -121,6 +124,10 @@ pub enum Source {
     /// A scene generated from the committed teapot ([`crate::corpus_generated`]).
     Generated(Generated),
 }
+
+/// How many times a model's longest extent its floor spans
+/// ([`Source::Model`]).
+pub const FLOOR_SIZE: Real = 400.0;
 
 /// A corpus entry: a name, a source, whether its files come from
 /// `../shared` (skipped when absent).
@@ -146,6 +153,7 @@ pub fn entries(root: &Path, shared: &Path) -> Vec<Entry> {
         offset: [0.0; 3],
         views,
         props: false,
+        floor: false,
     };
     let framed = || vec![("", None)];
     vec![
@@ -156,6 +164,7 @@ pub fn entries(root: &Path, shared: &Path) -> Vec<Entry> {
                 offset: [0.0; 3],
                 views: vec![("far", None), ("close", Some(CLOSE))],
                 props: true,
+                floor: false,
             },
             shared: true,
         },
@@ -183,6 +192,17 @@ pub fn entries(root: &Path, shared: &Path) -> Vec<Entry> {
             shared: true,
         },
         Entry {
+            name: "dragon+floor",
+            source: Source::Model {
+                file: s("dragon/dragon.glb"),
+                offset: [0.0; 3],
+                views: framed(),
+                props: false,
+                floor: true,
+            },
+            shared: true,
+        },
+        Entry {
             name: "cornell",
             source: model(
                 root.join("fixtures/meshes/cornell_box/CornellBox-Original.obj"),
@@ -197,6 +217,7 @@ pub fn entries(root: &Path, shared: &Path) -> Vec<Entry> {
                 offset: [1e5, 0.0, 0.0],
                 views: framed(),
                 props: false,
+                floor: false,
             },
             shared: false,
         },
@@ -358,14 +379,18 @@ pub fn load(e: &Entry, root: &Path, w: u32, h: u32) -> Result<CorpusScene, Strin
             offset,
             views,
             props,
+            floor,
         } => {
             let sandbox = gridrt_io::Sandbox::for_input(file);
             let model = gridrt_io::load_model_in(file, &sandbox).map_err(|e| e.to_string())?;
             let off = Vec3::new(offset[0] as Real, offset[1] as Real, offset[2] as Real);
-            let tris: Vec<[Vec3; 3]> = model
+            let mut tris: Vec<[Vec3; 3]> = model
                 .triangles()
                 .map(|t| [t[0] + off, t[1] + off, t[2] + off])
                 .collect();
+            if *floor {
+                tris.extend(floor_under(&tris));
+            }
             let small: Vec<Vec3> = if *props {
                 small_mesh_vertices(&model, off)
             } else {
@@ -387,12 +412,17 @@ pub fn load(e: &Entry, root: &Path, w: u32, h: u32) -> Result<CorpusScene, Strin
                 .map(|(label, v)| view_rays(label, v.unwrap_or(framed), w, h))
                 .collect();
             let about = format!(
-                "{}{}",
+                "{}{}{}",
                 crate::util::show(file),
                 if *offset == [0.0; 3] {
                     String::new()
                 } else {
                     format!(" moved by ({}, {}, {})", offset[0], offset[1], offset[2])
+                },
+                if *floor {
+                    format!(" on a floor {FLOOR_SIZE} times its size")
+                } else {
+                    String::new()
                 }
             );
             (Prims::Tris(tris), sets, about, small)
@@ -476,6 +506,20 @@ pub fn load(e: &Entry, root: &Path, w: u32, h: u32) -> Result<CorpusScene, Strin
         prims,
         sets,
     })
+}
+
+/// The two triangles of a square [`FLOOR_SIZE`] times the longest extent
+/// of `tris` across, centred under them at the bottom of their box.
+fn floor_under(tris: &[[Vec3; 3]]) -> [[Vec3; 3]; 2] {
+    let b = tris
+        .iter()
+        .flatten()
+        .fold(gridrt_bbox::Aabb::EMPTY, |b, p| b.grow(*p));
+    let half = 0.5 * FLOOR_SIZE * (b.max - b.min).max_element();
+    let c = (b.min + b.max) * 0.5;
+    let at = |dx: Real, dz: Real| Vec3::new(c.x + dx * half, b.min.y, c.z + dz * half);
+    let [a, b, c, d] = [at(-1.0, -1.0), at(1.0, -1.0), at(1.0, 1.0), at(-1.0, 1.0)];
+    [[a, c, b], [a, d, c]]
 }
 
 /// The camera rays of view `v`, and what they are for the report (after
@@ -592,6 +636,24 @@ pub fn uv_sphere_mesh(
 mod tests {
     use super::*;
     use gridrt_grid::Exhaustive;
+
+    #[test]
+    fn the_floor_lies_under_the_model_facing_up() {
+        let tri = [
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::new(2.0, 2.5, 3.0),
+            Vec3::new(1.0, 4.0, 3.5),
+        ];
+        let floor = floor_under(&[tri]);
+        for t in floor {
+            assert!(t.iter().all(|p| p.y == 2.0));
+            let n = (t[1] - t[0]).cross(t[2] - t[0]);
+            assert!(n.y > 0.0 && n.x == 0.0 && n.z == 0.0, "{n:?}");
+        }
+        let xs = floor.iter().flatten().map(|p| p.x);
+        let span = xs.clone().fold(Real::MIN, Real::max) - xs.fold(Real::MAX, Real::min);
+        assert_eq!(span, FLOOR_SIZE * 2.0);
+    }
 
     #[test]
     fn the_mesh_has_the_peers_triangle_count() {
