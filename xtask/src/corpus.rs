@@ -57,12 +57,20 @@ impl Prims {
 
     /// The box of every primitive.
     fn bounds(&self) -> gridrt_bbox::Aabb {
-        let b = gridrt_bbox::Aabb::EMPTY;
         match self {
-            Prims::Tris(t) => t.iter().flatten().fold(b, |b, p| b.grow(*p)),
-            Prims::Spheres(s) => s.iter().fold(b, |b, s| b.union(s.bounds(&()))),
+            Prims::Tris(t) => tris_bounds(t),
+            Prims::Spheres(s) => s
+                .iter()
+                .fold(gridrt_bbox::Aabb::EMPTY, |b, s| b.union(s.bounds(&()))),
         }
     }
+}
+
+/// The box of every vertex of `tris`.
+pub fn tris_bounds(tris: &[[Vec3; 3]]) -> gridrt_bbox::Aabb {
+    tris.iter()
+        .flatten()
+        .fold(gridrt_bbox::Aabb::EMPTY, |b, p| b.grow(*p))
 }
 
 /// One ray query with its range.
@@ -511,10 +519,7 @@ pub fn load(e: &Entry, root: &Path, w: u32, h: u32) -> Result<CorpusScene, Strin
 /// The two triangles of a square [`FLOOR_SIZE`] times the longest extent
 /// of `tris` across, centred under them at the bottom of their box.
 fn floor_under(tris: &[[Vec3; 3]]) -> [[Vec3; 3]; 2] {
-    let b = tris
-        .iter()
-        .flatten()
-        .fold(gridrt_bbox::Aabb::EMPTY, |b, p| b.grow(*p));
+    let b = tris_bounds(tris);
     let half = 0.5 * FLOOR_SIZE * (b.max - b.min).max_element();
     let c = (b.min + b.max) * 0.5;
     let at = |dx: Real, dz: Real| Vec3::new(c.x + dx * half, b.min.y, c.z + dz * half);

@@ -15,7 +15,7 @@
 // both builds.
 #![allow(clippy::unnecessary_cast)]
 
-use crate::corpus::{Lcg, View};
+use crate::corpus::{tris_bounds, Lcg, View};
 use gridrt_grid::{Real, Vec3};
 use std::path::Path;
 
@@ -42,10 +42,7 @@ pub fn build(g: Generated, root: &Path) -> Result<Built, String> {
     if tris.is_empty() {
         return Err(format!("{}: no triangles", file.display()));
     }
-    let b = tris
-        .iter()
-        .flatten()
-        .fold(gridrt_bbox::Aabb::EMPTY, |b, p| b.grow(*p));
+    let b = tris_bounds(&tris);
     let teapot = Shape {
         tris,
         centre: (b.min + b.max) * 0.5,
@@ -205,11 +202,7 @@ mod tests {
             .unwrap_or_else(|e| panic!("{e}"));
         let t = build(Generated::Teapots, &root()).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(t.tris.len(), 40 * n);
-        let b = t
-            .tris
-            .iter()
-            .flatten()
-            .fold(gridrt_bbox::Aabb::EMPTY, |b, p| b.grow(*p));
+        let b = tris_bounds(&t.tris);
         assert!(
             b.min.min_element() > -520.0 && b.max.max_element() < 520.0,
             "{b:?}"
