@@ -49,8 +49,9 @@ mod tests {
         let theirs = suffern::spheres(100, 15);
         assert_eq!(ours.spheres.len(), 100);
         assert_eq!(ours.colors.len(), 100);
-        for ((s, c), b) in ours.spheres.iter().zip(&ours.colors).zip(&theirs) {
-            assert_eq!((s.center, s.radius, *c), (b.center, b.radius, b.color));
+        for (k, (s, b)) in ours.spheres.iter().zip(&theirs).enumerate() {
+            let c = ours.colors.get(k);
+            assert_eq!((s.center, s.radius, c), (b.center, b.radius, Some(b.color)));
         }
     }
 

@@ -648,7 +648,7 @@ impl<'a> Builder<'a> {
                 let mut set = crate::random::spheres(count.0, *seed, radius.map(|r| r.0), lo, hi);
                 let material = match forced {
                     Some(m) => {
-                        set.colors = Vec::new();
+                        set.colors = gridrt_tracer::SphereColors::None;
                         m
                     }
                     None => {

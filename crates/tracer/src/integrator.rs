@@ -121,13 +121,37 @@ impl Default for PrimColors {
     }
 }
 
-impl std::ops::Deref for PrimColors {
-    type Target = [Rgb];
+impl PrimColors {
+    /// Primitive `i`'s colour, if it has one.
     #[inline]
-    fn deref(&self) -> &[Rgb] {
+    pub(crate) fn get(&self, i: usize) -> Option<Rgb> {
         match self {
-            Self::Own(v) => v,
-            Self::Set(s) => &s.colors,
+            Self::Own(v) => v.get(i).copied(),
+            Self::Set(s) => s.colors.get(i),
+        }
+    }
+
+    /// Whether no primitive has a colour.
+    #[cfg(test)]
+    pub(crate) fn is_empty(&self) -> bool {
+        match self {
+            Self::Own(v) => v.is_empty(),
+            Self::Set(s) => s.colors.is_empty(),
+        }
+    }
+
+    /// Starts loading primitive `i`'s stored colour, if it has one.
+    #[inline]
+    fn prefetch(&self, i: usize) {
+        let stored = match self {
+            Self::Own(v) => v.get(i),
+            Self::Set(s) => match &s.colors {
+                crate::SphereColors::Each(v) => v.get(i),
+                _ => None,
+            },
+        };
+        if let Some(a) = stored {
+            gridrt_grid::mem::prefetch(a);
         }
     }
 }
@@ -567,9 +591,7 @@ where
     pub(crate) fn prefetch(&self, found: Option<Found>) {
         if let Some(Found::Prim(h)) = found {
             let i = h.prim as usize;
-            if let Some(a) = self.data.prim_albedo.get(i) {
-                gridrt_grid::mem::prefetch(a);
-            }
+            self.data.prim_albedo.prefetch(i);
             if let PrimMaterials::PerPrim(v) = &self.data.prim_material {
                 if let Some(m) = v.get(i) {
                     gridrt_grid::mem::prefetch(m);
@@ -614,7 +636,7 @@ where
             ns,
             albedo: tri
                 .and_then(|t| Self::vertex_color(t, h.u, h.v))
-                .or_else(|| self.data.prim_albedo.get(i).copied()),
+                .or_else(|| self.data.prim_albedo.get(i)),
             emission: Rgb::ZERO,
             metal_rough: None,
         }

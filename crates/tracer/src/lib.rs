@@ -121,7 +121,7 @@ pub use robustness::{RayOffset, TriangleTest};
 pub use sampling::{Filter, SamplerKind};
 pub use scene::{
     Camera, ConductorFresnel, EnvImage, Geometry, IntegratorChoice, Light, Material, MaterialId,
-    Mesh, Object, Occlusion, Projection, Rgb, Scene, Settings, SphereSet, ThinLens,
+    Mesh, Object, Occlusion, Projection, Rgb, Scene, Settings, SphereColors, SphereSet, ThinLens,
 };
 pub use shapes::{
     Cuboid, MeshTriangle, MeshVertices, MtTriangle, Plane, Shape, Shear, Sphere, SphereFour,

@@ -9,7 +9,7 @@ use crate::instancing::{flattened, InstancingStats, SharedMeshes};
 use crate::integrator::{DirectLight, MeshRef, MeshShading, PrimColors, PrimMaterials, SceneData};
 use crate::lights::{AreaLight, Environment};
 use crate::plan::{EffectPlan, IntegratorKind};
-use crate::scene::{Geometry, Light, Material, Mesh, Rgb, Scene};
+use crate::scene::{Geometry, Light, Material, Mesh, Rgb, Scene, SphereColors};
 use crate::shapes::{Cuboid, Instance, MeshGrid, MeshTriangle, MeshVertices, Plane, Shape, Sphere};
 use crate::texture::shade::TextureData;
 use crate::validate::validate;
@@ -443,17 +443,13 @@ fn convert(
     // The tables of `n` primitives of `material`, with `colors` (empty, or
     // one per primitive).
     let mut record =
-        |material: u32, n: usize, colors: &[Rgb], mesh: MeshRef, data: &mut SceneData| {
+        |material: u32, n: usize, colors: &SphereColors, mesh: MeshRef, data: &mut SceneData| {
             if uniform.is_none() {
                 per_prim.resize(per_prim.len() + n, material);
             }
             if colored {
-                if colors.is_empty() {
-                    let a = albedo(&data.materials[material as usize]);
-                    albedos.resize(albedos.len() + n, a);
-                } else {
-                    albedos.extend_from_slice(colors);
-                }
+                let a = albedo(&data.materials[material as usize]);
+                colors.extend_into(&mut albedos, n, a);
             }
             if smooth {
                 data.prim_mesh.extend(n, mesh);
@@ -469,7 +465,7 @@ fn convert(
             match &o.geometry {
                 Geometry::Sphere { center, radius } => {
                     spheres.push(Sphere::new(*center, *radius));
-                    record(o.material, 1, &[], MeshRef::NONE, data);
+                    record(o.material, 1, &SphereColors::None, MeshRef::NONE, data);
                 }
                 Geometry::Spheres(set) => {
                     spheres.extend_from_slice(&set.spheres);
@@ -528,7 +524,7 @@ fn convert(
             match &o.geometry {
                 Geometry::Sphere { center, radius } => {
                     shapes.push(Sphere::new(*center, *radius).into());
-                    record(o.material, 1, &[], MeshRef::NONE, data);
+                    record(o.material, 1, &SphereColors::None, MeshRef::NONE, data);
                 }
                 Geometry::Spheres(set) => {
                     for &sp in &set.spheres {
@@ -544,7 +540,7 @@ fn convert(
                 }
                 Geometry::Cuboid { min, max } => {
                     shapes.push(Cuboid::new(*min, *max).into());
-                    record(o.material, 1, &[], MeshRef::NONE, data);
+                    record(o.material, 1, &SphereColors::None, MeshRef::NONE, data);
                 }
                 Geometry::Plane { .. } => {}
                 Geometry::Mesh(_) => {}
@@ -569,7 +565,7 @@ fn convert(
                         if let Some(inst) = Instance::new(grid, **to_world) {
                             shapes.push(Shape::Instance(Arc::new(inst)));
                             stats.instances += 1;
-                            record(o.material, 1, &[], MeshRef::NONE, data);
+                            record(o.material, 1, &SphereColors::None, MeshRef::NONE, data);
                         }
                     }
                 }
@@ -599,7 +595,7 @@ fn convert(
                         mesh: mesh_id,
                         tri: t as u32,
                     };
-                    record(o.material, 1, &[], r, data);
+                    record(o.material, 1, &SphereColors::None, r, data);
                 }
             }
             if sample_lights {
@@ -650,7 +646,8 @@ mod tests {
         let Geometry::Spheres(set) = &scene.objects[0].geometry else {
             panic!("the benchmark is one sphere set");
         };
-        assert_eq!(*p.data.prim_albedo, set.colors);
+        assert!(matches!(&p.data.prim_albedo, PrimColors::Set(s) if Arc::ptr_eq(s, set)));
+        assert_eq!(p.data.prim_albedo.get(49), set.colors.get(49));
         // The set itself, shared with the scene: no copy.
         assert!(matches!(&p.prims, Prims::Set(s) if Arc::ptr_eq(s, set)));
     }
@@ -675,7 +672,7 @@ mod tests {
         // A set without colours takes its material's.
         let plain = SphereSet {
             spheres: suffern::sphere_set(3, 7).spheres,
-            colors: Vec::new(),
+            colors: SphereColors::None,
         };
         scene.objects.push(set_object(plain, 1));
         let p = prepare(
@@ -688,9 +685,9 @@ mod tests {
             panic!("object 1 is the benchmark's set");
         };
         let mut want = vec![red];
-        want.extend_from_slice(&set.colors);
+        set.colors.extend_into(&mut want, 5, Rgb::ZERO);
         want.extend([red; 3]);
-        assert_eq!(*p.data.prim_albedo, want);
+        assert!(matches!(&p.data.prim_albedo, PrimColors::Own(v) if *v == want));
         let mut ids = vec![1];
         ids.extend([0; 5]);
         ids.extend([1; 3]);
@@ -704,7 +701,7 @@ mod tests {
         scene.objects.push(set_object(
             SphereSet {
                 spheres: suffern::sphere_set(4, 3).spheres,
-                colors: Vec::new(),
+                colors: SphereColors::None,
             },
             0,
         ));

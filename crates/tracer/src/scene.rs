@@ -230,15 +230,64 @@ impl Geometry {
 }
 
 /// The spheres of a [`Geometry::Spheres`] object: 16 bytes per sphere
-/// (`f32`) plus 12 per colour, the representation from the scene loader to
+/// (`f32`) and their colours, the representation from the scene loader to
 /// the grid.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SphereSet {
     /// The spheres (radius > 0, finite).
     pub spheres: Vec<Sphere>,
-    /// Empty, or one colour per sphere that replaces the albedo (`color`) of
-    /// the object's material when it is Matte, Phong or Reflective.
-    pub colors: Vec<Rgb>,
+    /// The colours that replace the albedo (`color`) of the object's
+    /// material when it is Matte, Phong or Reflective, if any.
+    pub colors: SphereColors,
+}
+
+/// The colours of a [`SphereSet`]'s spheres.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum SphereColors {
+    /// None: the object's material colours every sphere.
+    #[default]
+    None,
+    /// One colour per sphere (12 bytes each).
+    Each(Vec<Rgb>),
+    /// Suffern's random colours, drawn when asked (no bytes per sphere).
+    Drawn(crate::suffern::DrawnColors),
+}
+
+impl SphereColors {
+    /// Sphere `i`'s colour, or `None` when the set has none or `i` is past
+    /// its last sphere.
+    #[inline]
+    #[must_use]
+    pub fn get(&self, i: usize) -> Option<Rgb> {
+        match self {
+            Self::None => None,
+            Self::Each(v) => v.get(i).copied(),
+            Self::Drawn(d) => d.get(i),
+        }
+    }
+
+    /// How many spheres have a colour (0 for [`SphereColors::None`]).
+    #[must_use]
+    pub fn len(&self) -> usize {
+        match self {
+            Self::None => 0,
+            Self::Each(v) => v.len(),
+            Self::Drawn(d) => d.len(),
+        }
+    }
+
+    /// Whether no sphere has a colour.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Appends the colours of spheres `0..n` to `out`, `otherwise` for each
+    /// that has none.
+    pub fn extend_into(&self, out: &mut Vec<Rgb>, n: usize, otherwise: Rgb) {
+        out.reserve(n);
+        out.extend((0..n).map(|i| self.get(i).unwrap_or(otherwise)));
+    }
 }
 
 impl SphereSet {

@@ -17,7 +17,9 @@
 //! assert_eq!(r.count_camera_hits(), 16972);
 //! ```
 
-use crate::scene::{Camera, Geometry, Light, Material, Object, Projection, Rgb, Scene, Settings};
+use crate::scene::{
+    Camera, Geometry, Light, Material, Object, Projection, Rgb, Scene, Settings, SphereColors,
+};
 use crate::{RenderOptions, Renderer, SceneError, Sphere, SphereSet};
 use gridrt_bbox::{Real, Vec3};
 use std::sync::Arc;
@@ -84,20 +86,8 @@ impl Lcg {
     /// b.skip(1000);
     /// assert_eq!(a, b);
     /// ```
-    pub fn skip(&mut self, mut k: u64) {
-        // The map x ↦ mul·x + add of 2^i steps, and the one of the steps taken.
-        let (mut mul, mut add) = (Self::MUL, Self::ADD);
-        let (mut acc_mul, mut acc_add) = (1u64, 0u64);
-        while k > 0 {
-            if k & 1 == 1 {
-                acc_mul = acc_mul.wrapping_mul(mul);
-                acc_add = acc_add.wrapping_mul(mul).wrapping_add(add);
-            }
-            add = mul.wrapping_add(1).wrapping_mul(add);
-            mul = mul.wrapping_mul(mul);
-            k >>= 1;
-        }
-        self.state = acc_mul.wrapping_mul(self.state).wrapping_add(acc_add);
+    pub fn skip(&mut self, k: u64) {
+        self.state = Steps::ONE.pow(k).apply(self.state);
     }
 
     /// The draws of one sphere ([`Lcg::sphere`]).
@@ -107,16 +97,147 @@ impl Lcg {
     /// the centre `x, y, z = 1 − 2u`, in that order, in `f32`.
     #[inline]
     fn sphere(&mut self) -> (Vec3, Rgb) {
+        let color = self.color();
+        (self.center(), color)
+    }
+
+    /// A sphere's first three draws: its colour.
+    #[inline]
+    fn color(&mut self) -> Rgb {
         let r = self.next_f32();
         let g = self.next_f32();
         let b = self.next_f32();
+        Rgb::new(r, g, b)
+    }
+
+    /// A sphere's last three draws: its centre, `x, y, z = 1 − 2u`.
+    #[inline]
+    fn center(&mut self) -> Vec3 {
         let x = 1.0f32 - 2.0f32 * self.next_f32();
         let y = 1.0f32 - 2.0f32 * self.next_f32();
         let z = 1.0f32 - 2.0f32 * self.next_f32();
-        (
-            Vec3::new(x as Real, y as Real, z as Real),
-            Rgb::new(r, g, b),
-        )
+        Vec3::new(x as Real, y as Real, z as Real)
+    }
+}
+
+/// The affine map `x ↦ mul·x + add (mod 2⁶⁴)` that some number of
+/// [`Lcg`] steps apply to its state (F. Brown, "Random number generation
+/// with arbitrary strides", 1994): `k` steps compose into one such map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Steps {
+    mul: u64,
+    add: u64,
+}
+
+impl Steps {
+    /// No step.
+    const NONE: Self = Self { mul: 1, add: 0 };
+    /// One step.
+    const ONE: Self = Self {
+        mul: Lcg::MUL,
+        add: Lcg::ADD,
+    };
+
+    /// These steps, then `next`.
+    #[inline]
+    fn then(self, next: Self) -> Self {
+        Self {
+            mul: next.mul.wrapping_mul(self.mul),
+            add: next.mul.wrapping_mul(self.add).wrapping_add(next.add),
+        }
+    }
+
+    /// These steps taken `k` times, by repeated squaring: O(log k).
+    fn pow(self, mut k: u64) -> Self {
+        let (mut acc, mut sq) = (Self::NONE, self);
+        while k > 0 {
+            if k & 1 == 1 {
+                acc = acc.then(sq);
+            }
+            sq = sq.then(sq);
+            k >>= 1;
+        }
+        acc
+    }
+
+    #[inline]
+    fn apply(self, state: u64) -> u64 {
+        self.mul.wrapping_mul(state).wrapping_add(self.add)
+    }
+}
+
+/// The random colours of a [`sphere_set`], drawn when asked rather than
+/// stored: sphere `i`'s colour is the LCG's draws `6i`, `6i + 1`, `6i + 2`
+/// from the seed, the very numbers [`spheres`] gives it.
+///
+/// The state before sphere `i`'s draws is the seed moved by `6i` steps,
+/// one affine map, composed from tables of the maps of `6·j·256^l` steps
+/// (`j < 256`, one table per byte of the largest index: 4 KiB each, three
+/// for a million spheres). A colour then costs a load and a multiply–add
+/// per byte and three draws, where a stored table costs 12 bytes a sphere
+/// (12 MB of fresh memory for a million) and a cache miss per shading
+/// lookup.
+///
+/// ```
+/// use gridrt_tracer::suffern::{spheres, DrawnColors};
+/// let colors = DrawnColors::new(15, 1000);
+/// let drawn = spheres(1000, 15);
+/// assert_eq!(colors.get(999), Some(drawn[999].color));
+/// assert_eq!(colors.get(1000), None);
+/// ```
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct DrawnColors {
+    seed: u64,
+    len: usize,
+    /// `jumps[l][j]`: the steps of `j·256^l` spheres.
+    jumps: Box<[[Steps; 256]]>,
+}
+
+impl DrawnColors {
+    /// The colours of the first `len` spheres for `seed`.
+    #[must_use]
+    pub fn new(seed: u64, len: usize) -> Self {
+        let mut levels = 1;
+        while len.saturating_sub(1) >> (8 * levels) != 0 {
+            levels += 1;
+        }
+        let mut jumps = vec![[Steps::NONE; 256]; levels].into_boxed_slice();
+        let mut unit = Steps::ONE.pow(Lcg::SPHERE_DRAWS);
+        for level in jumps.iter_mut() {
+            for j in 1..256 {
+                level[j] = level[j - 1].then(unit);
+            }
+            unit = level[255].then(unit);
+        }
+        Self { seed, len, jumps }
+    }
+
+    /// How many spheres have a colour.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether no sphere has a colour.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Sphere `i`'s colour, or `None` past the last sphere.
+    #[inline]
+    #[must_use]
+    pub fn get(&self, i: usize) -> Option<Rgb> {
+        if i >= self.len {
+            return None;
+        }
+        let mut state = self.seed;
+        let mut k = i;
+        for level in &*self.jumps {
+            state = level[k & 255].apply(state);
+            k >>= 8;
+        }
+        Some(Lcg::new(state).color())
     }
 }
 
@@ -164,14 +285,14 @@ pub fn spheres(n: usize, seed: u64) -> Vec<RandomSphere> {
 }
 
 /// The `n` spheres for a seed as a [`SphereSet`] with the random colours
-/// (the same numbers as [`spheres`], without the detour
-/// through a vector of [`RandomSphere`]).
+/// (the same numbers as [`spheres`], without the detour through a vector
+/// of [`RandomSphere`]; the colours as [`DrawnColors`], computed when
+/// asked).
 ///
 /// Each LCG step waits for the one before, so one sequence is drawn as
 /// four independent ones, each started with [`Lcg::skip`] at its share
 /// of the spheres and stepped in turn, which lets the processor overlap
-/// them: the same numbers in the same places (at 10⁶ spheres about 3 ms of
-/// 8–10 less; the rest is writing 28 MB of fresh memory).
+/// them: the same numbers in the same places.
 #[must_use]
 pub fn sphere_set(n: usize, seed: u64) -> SphereSet {
     sphere_set_threads(n, seed, 1)
@@ -184,8 +305,7 @@ pub fn sphere_set(n: usize, seed: u64) -> SphereSet {
 /// ```
 /// use gridrt_tracer::suffern::{sphere_set, sphere_set_threads};
 /// let (a, b) = (sphere_set(1000, 15), sphere_set_threads(1000, 15, 3));
-/// assert_eq!(a.spheres, b.spheres);
-/// assert_eq!(a.colors, b.colors);
+/// assert_eq!(a, b);
 /// ```
 #[must_use]
 pub fn sphere_set_threads(n: usize, seed: u64, threads: usize) -> SphereSet {
@@ -194,19 +314,14 @@ pub fn sphere_set_threads(n: usize, seed: u64, threads: usize) -> SphereSet {
     const MIN_SHARE: usize = 1 << 15;
     let parts = threads.min(n / MIN_SHARE).max(1);
     let mut spheres: Vec<Sphere> = gridrt_grid::mem::with_capacity(n);
-    let mut colors: Vec<Rgb> = gridrt_grid::mem::with_capacity(n);
     {
-        let (mut s, mut c) = (
-            &mut spheres.spare_capacity_mut()[..n],
-            &mut colors.spare_capacity_mut()[..n],
-        );
+        let mut s = &mut spheres.spare_capacity_mut()[..n];
         std::thread::scope(|scope| {
             for p in 0..parts {
                 let (start, end) = (n * p / parts, n * (p + 1) / parts);
                 let (sp, st) = std::mem::take(&mut s).split_at_mut(end - start);
-                let (cp, ct) = std::mem::take(&mut c).split_at_mut(end - start);
-                (s, c) = (st, ct);
-                let mut fill = move || draw(seed, start, radius, sp, cp);
+                s = st;
+                let mut fill = move || draw(seed, start, radius, sp);
                 if p + 1 == parts {
                     fill();
                 } else {
@@ -216,26 +331,22 @@ pub fn sphere_set_threads(n: usize, seed: u64, threads: usize) -> SphereSet {
         });
     }
     // SAFETY: the parts cover `0..n` and `draw` writes every element of
-    // its part of both vectors.
+    // its part.
     unsafe {
         spheres.set_len(n);
-        colors.set_len(n);
     }
-    SphereSet { spheres, colors }
+    SphereSet {
+        spheres,
+        colors: SphereColors::Drawn(DrawnColors::new(seed, n)),
+    }
 }
 
-/// Writes spheres `start..start + s.len()` of the sequence into `s` and
-/// their colours into `c` (of the same length), in [`LANES`] interleaved
-/// lanes.
-fn draw(
-    seed: u64,
-    start: usize,
-    radius: Real,
-    s: &mut [std::mem::MaybeUninit<Sphere>],
-    c: &mut [std::mem::MaybeUninit<Rgb>],
-) {
+/// Writes spheres `start..start + s.len()` of the sequence into `s`, in
+/// [`LANES`] interleaved lanes (stepping over their colours' draws).
+fn draw(seed: u64, start: usize, radius: Real, s: &mut [std::mem::MaybeUninit<Sphere>]) {
     let n = s.len();
     let share = n.div_ceil(LANES);
+    let color_draws = Steps::ONE.pow(3);
     let mut lanes: [Lcg; LANES] = std::array::from_fn(|l| {
         let mut rng = Lcg::new(seed);
         rng.skip(Lcg::SPHERE_DRAWS * (start + l * share) as u64);
@@ -245,9 +356,8 @@ fn draw(
         for (l, rng) in lanes.iter_mut().enumerate() {
             let k = l * share + i;
             if k < n {
-                let (center, color) = rng.sphere();
-                s[k].write(Sphere::new(center, radius));
-                c[k].write(color);
+                rng.state = color_draws.apply(rng.state);
+                s[k].write(Sphere::new(rng.center(), radius));
             }
         }
     }
@@ -375,6 +485,33 @@ mod tests {
     }
 
     #[test]
+    fn drawn_colours_are_the_draws_at_any_index() {
+        let len = (1 << 24) + 7;
+        let colors = DrawnColors::new(DEFAULT_SEED, len);
+        for i in [
+            0,
+            1,
+            2,
+            255,
+            256,
+            257,
+            65_535,
+            65_536,
+            999_999,
+            1 << 24,
+            len - 1,
+        ] {
+            let mut rng = Lcg::new(DEFAULT_SEED);
+            rng.skip(Lcg::SPHERE_DRAWS * i as u64);
+            assert_eq!(colors.get(i), Some(rng.color()), "sphere {i}");
+        }
+        assert_eq!(colors.get(len), None);
+        assert_eq!(DrawnColors::new(DEFAULT_SEED, 0).get(0), None);
+        assert_eq!(DrawnColors::new(DEFAULT_SEED, 1).jumps.len(), 1);
+        assert_eq!(DrawnColors::new(DEFAULT_SEED, 257).jumps.len(), 2);
+    }
+
+    #[test]
     fn the_interleaved_set_is_the_sequence() {
         for (n, threads) in [
             (0usize, 1usize),
@@ -393,11 +530,11 @@ mod tests {
             let set = sphere_set_threads(n, DEFAULT_SEED, threads);
             let want = spheres(n, DEFAULT_SEED);
             assert_eq!(set.spheres.len(), n);
-            assert_eq!(set.colors.len(), n);
+            assert_eq!(set.colors.get(n), None);
             for (k, w) in want.iter().enumerate() {
                 assert_eq!(set.spheres[k].center, w.center, "n = {n}, sphere {k}");
                 assert_eq!(set.spheres[k].radius, w.radius);
-                assert_eq!(set.colors[k], w.color, "n = {n}, sphere {k}");
+                assert_eq!(set.colors.get(k), Some(w.color), "n = {n}, sphere {k}");
             }
         }
     }
@@ -421,10 +558,10 @@ mod tests {
         // Reproducible.
         assert_eq!(s, spheres(1000, DEFAULT_SEED));
         let set = sphere_set(1000, DEFAULT_SEED);
-        for (a, b) in s.iter().zip(set.spheres.iter().zip(&set.colors)) {
+        for (k, (a, b)) in s.iter().zip(&set.spheres).enumerate() {
             assert_eq!(
-                (a.center, a.radius, a.color),
-                (b.0.center, b.0.radius, *b.1)
+                (a.center, a.radius, Some(a.color)),
+                (b.center, b.radius, set.colors.get(k))
             );
         }
     }

@@ -50,7 +50,7 @@ fn sphere_set_renders_like_objects() {
     let base = Renderer::new(&scene, &opts).unwrap();
     let set = gridrt_tracer::SphereSet {
         spheres: suffern::sphere_set(50, 3).spheres,
-        colors: Vec::new(),
+        colors: gridrt_tracer::SphereColors::None,
     };
     let mut mixed = scene.clone();
     mixed.objects.push(gridrt_tracer::Object {

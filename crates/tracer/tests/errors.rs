@@ -2,9 +2,10 @@
 
 use crate::common::*;
 use gridrt_grid::{Real, Vec3};
+use gridrt_tracer::suffern::DrawnColors;
 use gridrt_tracer::{
     Geometry, Light, Material, Mesh, Object, Projection, RenderOptions, Renderer, Rgb, Scene,
-    SceneError, Sphere, SphereSet,
+    SceneError, Sphere, SphereColors, SphereSet,
 };
 use std::sync::Arc;
 
@@ -235,7 +236,10 @@ fn sphere_sets() {
     let with = |spheres: Vec<Sphere>, colors: Vec<Rgb>, material| {
         let mut s = valid();
         s.objects.push(Object {
-            geometry: Geometry::Spheres(Arc::new(SphereSet { spheres, colors })),
+            geometry: Geometry::Spheres(Arc::new(SphereSet {
+                spheres,
+                colors: SphereColors::Each(colors),
+            })),
             material,
         });
         Renderer::new(&s, &o)
@@ -252,6 +256,23 @@ fn sphere_sets() {
             object: 1,
             colors: 2,
             spheres: 1
+        }
+    ));
+    // Drawn colours are counted as given ones.
+    let mut s = valid();
+    s.objects.push(Object {
+        geometry: Geometry::Spheres(Arc::new(SphereSet {
+            spheres: vec![Sphere::new(Vec3::ZERO, 1.0); 3],
+            colors: SphereColors::Drawn(DrawnColors::new(15, 4)),
+        })),
+        material: 0,
+    });
+    assert!(matches!(
+        Renderer::new(&s, &o).unwrap_err(),
+        SceneError::SphereSetColors {
+            object: 1,
+            colors: 4,
+            spheres: 3
         }
     ));
     let e = with(vec![Sphere::new(Vec3::ZERO, 0.0)], vec![], 0).unwrap_err();
