@@ -197,10 +197,9 @@ impl DrawnColors {
     /// The colours of the first `len` spheres for `seed`.
     #[must_use]
     pub fn new(seed: u64, len: usize) -> Self {
-        let mut levels = 1;
-        while len.saturating_sub(1) >> (8 * levels) != 0 {
-            levels += 1;
-        }
+        // One level per byte of the largest index (at least one).
+        let largest = len.saturating_sub(1) as u64;
+        let levels = (1..8).find(|&l| largest >> (8 * l) == 0).unwrap_or(8);
         let mut jumps = vec![[Steps::NONE; 256]; levels].into_boxed_slice();
         let mut unit = Steps::ONE.pow(Lcg::SPHERE_DRAWS);
         for level in jumps.iter_mut() {
