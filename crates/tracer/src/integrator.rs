@@ -144,13 +144,10 @@ impl PrimColors {
     #[inline]
     fn prefetch(&self, i: usize) {
         let stored = match self {
-            Self::Own(v) => v.get(i),
-            Self::Set(s) => match &s.colors {
-                crate::SphereColors::Each(v) => v.get(i),
-                _ => None,
-            },
+            Self::Own(v) => v,
+            Self::Set(s) => s.colors.stored(),
         };
-        if let Some(a) = stored {
+        if let Some(a) = stored.get(i) {
             gridrt_grid::mem::prefetch(a);
         }
     }

@@ -266,6 +266,16 @@ impl SphereColors {
         }
     }
 
+    /// The colours stored one per sphere: those of [`SphereColors::Each`],
+    /// else none (drawn colours are computed, not stored).
+    #[must_use]
+    pub fn stored(&self) -> &[Rgb] {
+        match self {
+            Self::Each(v) => v,
+            Self::None | Self::Drawn(_) => &[],
+        }
+    }
+
     /// How many spheres have a colour (0 for [`SphereColors::None`]).
     #[must_use]
     pub fn len(&self) -> usize {

@@ -90,6 +90,9 @@ impl Lcg {
         self.state = Steps::ONE.pow(k).apply(self.state);
     }
 
+    /// The draws of a sphere's colour, the first of its draws ([`Lcg::color`]).
+    const COLOR_DRAWS: u64 = 3;
+
     /// The draws of one sphere ([`Lcg::sphere`]).
     const SPHERE_DRAWS: u64 = 6;
 
@@ -345,7 +348,7 @@ pub fn sphere_set_threads(n: usize, seed: u64, threads: usize) -> SphereSet {
 fn draw(seed: u64, start: usize, radius: Real, s: &mut [std::mem::MaybeUninit<Sphere>]) {
     let n = s.len();
     let share = n.div_ceil(LANES);
-    let color_draws = Steps::ONE.pow(3);
+    let color_draws = Steps::ONE.pow(Lcg::COLOR_DRAWS);
     let mut lanes: [Lcg; LANES] = std::array::from_fn(|l| {
         let mut rng = Lcg::new(seed);
         rng.skip(Lcg::SPHERE_DRAWS * (start + l * share) as u64);

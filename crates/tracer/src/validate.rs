@@ -7,9 +7,7 @@ use crate::float::to_f64;
 use crate::instancing::SharedMeshes;
 use crate::lights::AreaLight;
 use crate::prepare::MAX_PIXELS;
-use crate::scene::{
-    Geometry, Light, Material, Mesh, Occlusion, Rgb, Scene, SphereColors, SphereSet,
-};
+use crate::scene::{Geometry, Light, Material, Mesh, Occlusion, Rgb, Scene, SphereSet};
 use crate::shapes::Sphere;
 use gridrt_bbox::math::Lanes;
 use gridrt_bbox::Real;
@@ -425,11 +423,8 @@ fn check_set(object: usize, set: &SphereSet) -> Result<(), SceneError> {
             }
         }
     }
-    // Drawn colours are in [0, 1) by construction; given ones are checked.
-    let given = match &set.colors {
-        SphereColors::Each(v) => &v[..],
-        SphereColors::None | SphereColors::Drawn(_) => &[],
-    };
+    // Drawn colours are in [0, 1) by construction; stored ones are checked.
+    let given = set.colors.stored();
     if !colors_ok(given) {
         let sphere = given.iter().position(|&c| !color_ok(c)).unwrap_or(0);
         return Err(SceneError::BadSetSphere {
