@@ -7,7 +7,7 @@ use crate::cli_stats::{self, speed_text, Perf, RaysJson};
 use crate::error::{Error, Result};
 use crate::image_out::{check_output_dir, stage, write_atomic};
 use crate::model::{load_model_in, Model};
-use crate::rays::{format_hits, parse_rays, trace_rays_on};
+use crate::rays::{format_hits, parse_rays, trace_rays_into};
 use crate::RayQuery;
 use gridrt_grid::{Exhaustive, Grid, GridStats, Primitive, QueryCounters};
 use gridrt_tracer::{
@@ -188,7 +188,7 @@ fn run_on<P: Primitive + Clone + Send + Sync>(
     match a.accel.accel {
         Accel::Exhaustive => {
             let (e, build) = timed(|| Exhaustive::with_shared(prims, shared));
-            let (hits, trace) = timed(|| trace_rays_on(&e, queries, parallel));
+            let (hits, trace) = answers(queries, |out| trace_rays_into(&e, queries, out, parallel));
             let counters = want_counts.then(|| cli_stats::count_exhaustive(&e, queries));
             RaysRun {
                 hits,
@@ -202,7 +202,7 @@ fn run_on<P: Primitive + Clone + Send + Sync>(
             let mut config = a.intersect.grid(a.accel.grid_config());
             config.parallel_build &= parallel;
             let (g, build) = timed(|| Grid::build_shared(prims, shared, &config));
-            let (hits, trace) = timed(|| trace_rays_on(&g, queries, parallel));
+            let (hits, trace) = answers(queries, |out| trace_rays_into(&g, queries, out, parallel));
             let counters = want_counts.then(|| cli_stats::count_grid(&g, queries));
             let grid = Some(g.stats().clone());
             RaysRun {
@@ -223,6 +223,20 @@ struct RaysRun {
     trace: std::time::Duration,
     counters: Option<QueryCounters>,
     grid: Option<GridStats>,
+}
+
+/// The answers `trace` writes for `queries`, and the time it took: the
+/// answers' memory is allocated and written once before the clock starts,
+/// so that the time is the query loop's alone (`trace_s`), not the page
+/// faults of a fresh array.
+fn answers(
+    queries: &[RayQuery],
+    trace: impl FnOnce(&mut [Option<gridrt_grid::Hit>]),
+) -> (Vec<Option<gridrt_grid::Hit>>, std::time::Duration) {
+    let mut out = Vec::with_capacity(queries.len());
+    out.resize(queries.len(), None);
+    let ((), t) = timed(|| trace(&mut out));
+    (out, t)
 }
 
 fn timed<R>(f: impl FnOnce() -> R) -> (R, std::time::Duration) {

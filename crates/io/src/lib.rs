@@ -110,7 +110,9 @@ pub use model::{
 };
 pub use model_scene::{apply_overrides, frame, scene_from_model};
 pub use parts::{fingerprint, merge_parts, stage_part, write_part, PartSpec, STRIP};
-pub use rays::{format_hits, parse_rays, trace_rays, trace_rays_on, RayQuery, CHUNK};
+pub use rays::{
+    format_hits, parse_rays, trace_rays, trace_rays_into, trace_rays_on, RayQuery, CHUNK,
+};
 pub use sandbox::{Limits, Sandbox};
 pub use scene::{
     default_scene, load_scene, load_scene_in, parse_scene, parse_scene_in, LoadedScene,

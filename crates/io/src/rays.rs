@@ -103,10 +103,17 @@ fn parse_line(line: &str) -> std::result::Result<RayQuery, String> {
 
 /// Answers every query with the accelerator, in order.
 pub fn trace_rays<A: Accelerator>(accel: &A, rays: &[RayQuery]) -> Vec<Option<Hit>> {
+    let mut out = vec![None; rays.len()];
+    answer(accel, rays, &mut out);
+    out
+}
+
+/// Answers `rays` into `out`, one answer each, on this thread.
+fn answer<A: Accelerator>(accel: &A, rays: &[RayQuery], out: &mut [Option<Hit>]) {
     let mut scratch = accel.scratch();
-    rays.iter()
-        .map(|q| accel.closest_hit(&q.ray, q.t_min, q.t_max, &mut scratch))
-        .collect()
+    for (q, o) in rays.iter().zip(out) {
+        *o = accel.closest_hit(&q.ray, q.t_min, q.t_max, &mut scratch);
+    }
 }
 
 /// Answers every query, in order: on the current rayon pool when
@@ -117,17 +124,34 @@ pub fn trace_rays_on<A: Accelerator + Sync>(
     rays: &[RayQuery],
     parallel: bool,
 ) -> Vec<Option<Hit>> {
+    let mut out = vec![None; rays.len()];
+    trace_rays_into(accel, rays, &mut out, parallel);
+    out
+}
+
+/// [`trace_rays_on`] into `out` (as long as `rays`): the query loop alone,
+/// with no allocation, so that timing it times the queries and not the
+/// memory the answers go to.
+///
+/// # Panics
+/// If `out` and `rays` differ in length.
+pub fn trace_rays_into<A: Accelerator + Sync>(
+    accel: &A,
+    rays: &[RayQuery],
+    out: &mut [Option<Hit>],
+    parallel: bool,
+) {
+    assert_eq!(rays.len(), out.len(), "one answer per query");
     #[cfg(feature = "rayon")]
     if parallel && rays.len() > CHUNK {
         use rayon::prelude::*;
-        let parts: Vec<Vec<Option<Hit>>> = rays
-            .par_chunks(CHUNK)
-            .map(|c| trace_rays(accel, c))
-            .collect();
-        return parts.concat();
+        out.par_chunks_mut(CHUNK)
+            .zip(rays.par_chunks(CHUNK))
+            .for_each(|(o, c)| answer(accel, c, o));
+        return;
     }
     let _ = parallel;
-    trace_rays(accel, rays)
+    answer(accel, rays, out);
 }
 
 /// Rays per parallel task of [`trace_rays_on`].
