@@ -21,7 +21,7 @@ use crate::par::{chunk_bounds, chunk_count, map_indices, SharedMut};
 use crate::radix;
 use crate::{CellStorage, GridConfig, Primitive};
 use gridrt_bbox::math::Lanes;
-use gridrt_bbox::Aabb;
+use gridrt_bbox::{Aabb, Real};
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Everything the build produces.
@@ -30,8 +30,9 @@ pub(crate) struct Built {
     pub geom: Geom,
     pub cells: Cells,
     pub refs: Box<[u32]>,
-    /// Primitives whose box is not finite (NaN, infinite or empty), or all
-    /// of them for [`GridConfig::direct`]: tested by every query.
+    /// Primitives whose box is not finite (NaN, infinite or empty) or is
+    /// outsized ([`Outsized`]), or all of them for [`GridConfig::direct`]:
+    /// tested by every query.
     pub unbounded: Box<[u32]>,
     /// Morton spread tables per axis (hashed storage only).
     pub spread: [Box<[u64]>; 3],
@@ -75,16 +76,18 @@ pub(crate) fn build<P: Primitive>(
     let parts = map_indices(chunks, parallel, |c| {
         let (s, e) = chunk_bounds(n, chunks, c);
         // In lanes: min and max without the scalar ones' NaN cases (the
-        // boxes taken are finite), and nothing but the two in the loop, so
-        // that they stay in registers. The primitives left out (rare) are
-        // listed by a second loop.
+        // boxes taken are finite), and nothing but these and the edge
+        // statistics in the loop, so that they stay in registers. The
+        // primitives left out (rare) are listed by a second loop.
         let (mut lo, mut hi) = (Lanes::INFINITY, Lanes::NEG_INFINITY);
         let mut count = 0usize;
+        let mut edges = Edges::default();
         for (i, p) in (s..).zip(&prims[s..e]) {
             crate::mem::prefetch_at(prims, i, false);
             if let Some((min, max)) = gridded(&p.bounds(shared)) {
                 lo = lo.min(min);
                 hi = hi.max(max);
+                edges.add(i, min, max);
                 count += 1;
             }
         }
@@ -100,15 +103,25 @@ pub(crate) fn build<P: Primitive>(
         } else {
             Aabb::new(lo.truncate(), hi.truncate())
         };
-        (b, out, count)
+        (b, out, count, edges)
     });
     let mut bounds = Aabb::EMPTY;
     let mut unbounded = Vec::new();
     let mut gridded = 0usize;
-    for (b, out, count) in parts {
+    let mut edges = Edges::default();
+    for (b, out, count, e) in parts {
         bounds = bounds.union(b);
         unbounded.extend(out);
         gridded += count;
+        edges = edges.merge(e);
+    }
+    let mut outsized = Real::INFINITY;
+    if let Some(o) = Outsized::find(prims, shared, &bounds, gridded, &edges) {
+        outsized = o.limit;
+        bounds = o.core;
+        gridded -= o.prims.len();
+        unbounded.extend(o.prims);
+        unbounded.sort_unstable();
     }
     let unbounded = unbounded.into_boxed_slice();
     if gridded == 0 {
@@ -159,6 +172,7 @@ pub(crate) fn build<P: Primitive>(
     loop {
         let mut g = Geom::new(bounds, dims);
         g.slab = config.slab;
+        g.outsized = outsized;
         match build_cells(prims, shared, &g, config, ref_limit, unbounded.is_empty()) {
             Some(((cells, refs, spread, occupied, max_refs), ids)) => {
                 return Built {
@@ -174,6 +188,132 @@ pub(crate) fn build<P: Primitive>(
             }
             None => dims = dims.map(|d| (d / 2).max(1)),
         }
+    }
+}
+
+/// The longest box edges of the gridded primitives, for
+/// [`Outsized::find`]: the largest of all (per axis in lanes, one `max` a
+/// primitive, so that the bounds pass stays as fast as without it) and
+/// the binary orders of magnitude of a fixed sample (every
+/// [`Edges::STRIDE`]th primitive), whose median a few huge primitives
+/// cannot move as they would a mean.
+#[derive(Clone, Copy, Debug)]
+struct Edges {
+    /// Sampled edges per bin: bin `b` holds edges in `[2^(b − 65), 2^(b − 64))`
+    /// (the first and last bins also what lies beyond).
+    bins: [u32; Edges::BINS],
+    max: Lanes,
+}
+
+impl Default for Edges {
+    fn default() -> Self {
+        Edges {
+            bins: [0; Edges::BINS],
+            max: Lanes::ZERO,
+        }
+    }
+}
+
+impl Edges {
+    const STRIDE: usize = 8;
+    const BINS: usize = 128;
+
+    /// Adds primitive `i`, whose box has corners `min` and `max`.
+    #[inline(always)]
+    fn add(&mut self, i: usize, min: Lanes, max: Lanes) {
+        let e = max - min;
+        self.max = self.max.max(e);
+        if i.is_multiple_of(Self::STRIDE) {
+            let exp = (geom::wide(e.max_element()).to_bits() >> 52) as i64 - 1023;
+            self.bins[(exp + 65).clamp(0, Self::BINS as i64 - 1) as usize] += 1;
+        }
+    }
+
+    fn merge(mut self, o: Edges) -> Edges {
+        for (a, b) in self.bins.iter_mut().zip(o.bins) {
+            *a += b;
+        }
+        self.max = self.max.max(o.max);
+        self
+    }
+
+    /// An edge at or above the sample's median, and the longest edge of all.
+    fn median_and_max(&self) -> Option<(f64, Real)> {
+        let samples: u64 = self.bins.iter().map(|&b| u64::from(b)).sum();
+        let mut seen = 0;
+        let bin = self.bins.iter().position(|&b| {
+            seen += u64::from(b);
+            2 * seen >= samples
+        })?;
+        let above = 2f64.powi(bin as i32 - 64);
+        (samples > 0).then(|| (above, self.max.max_element()))
+    }
+}
+
+/// A few primitives far larger than the rest (a ground under a model, a
+/// wall around a room of small things), set aside from the cells and
+/// tested by every query like unbounded ones, so that the grid spans the
+/// rest only. One such primitive stretches the grid's box over the whole
+/// ground and leaves the model a handful of coarse cells (a 4×1×4 top
+/// grid for the dragon on a floor 400 times its size), where a grid over
+/// the model alone is as fine as the model asks and the ground costs each
+/// ray one test.
+#[derive(Debug)]
+struct Outsized {
+    /// The longest edge a gridded primitive keeps ([`Geom::outsized`]).
+    limit: Real,
+    /// The box of the primitives kept.
+    core: Aabb,
+    /// The primitives set aside, in order.
+    prims: Vec<u32>,
+}
+
+impl Outsized {
+    /// An outsized primitive's longest box edge is more than this many
+    /// times the median of the gridded primitives' longest edges (rounded
+    /// up to a power of two).
+    const FACTOR: f64 = 256.0;
+    /// At most this many are set aside (each costs every ray a test).
+    const MAX_PRIMS: usize = 16;
+    /// And only when the box of the rest is at least this many times
+    /// smaller on its longest axis than the whole scene's.
+    const SHRINK: Real = 4.0;
+
+    /// The outsized primitives of `prims` (`count` of them with finite
+    /// boxes, whose union is `bounds`), if setting them aside pays.
+    fn find<P: Primitive>(
+        prims: &[P],
+        shared: &P::Shared,
+        bounds: &Aabb,
+        count: usize,
+        edges: &Edges,
+    ) -> Option<Outsized> {
+        let (median, longest) = edges.median_and_max()?;
+        let limit = (median * Self::FACTOR) as Real;
+        if count < 2 || !(longest > limit) {
+            return None;
+        }
+        let mut core = Aabb::EMPTY;
+        let mut out = Vec::new();
+        for (i, p) in prims.iter().enumerate() {
+            let Some((min, max)) = gridded(&p.bounds(shared)) else {
+                continue;
+            };
+            if geom::longest_edge(min, max) > limit {
+                if out.len() == Self::MAX_PRIMS {
+                    return None;
+                }
+                out.push(i as u32);
+            } else {
+                core = core.union(Aabb::new(min.truncate(), max.truncate()));
+            }
+        }
+        let shrinks = core.extent().max_element() * Self::SHRINK <= bounds.extent().max_element();
+        (!core.is_empty() && shrinks).then_some(Outsized {
+            limit,
+            core,
+            prims: out,
+        })
     }
 }
 
@@ -321,7 +461,7 @@ fn build_pairs<P: Primitive, T: Pair>(
         let mut since_check = 0usize;
         for (p, prim) in (s as u32..).zip(&prims[s..e]) {
             let b = prim.bounds(shared);
-            if !all_gridded && !is_gridded(&b) {
+            if !all_gridded && !g.holds(&b) {
                 continue;
             }
             let (lo, hi) = g.cell_range(&b);

@@ -189,7 +189,8 @@ pub struct GridStats {
     pub bytes: usize,
     /// Of `bytes`, the cell table alone (dense offsets or hash slots).
     pub table_bytes: usize,
-    /// Primitives kept outside the cells because their box is not finite.
+    /// Primitives kept outside the cells and tested by every query: those
+    /// whose box is not finite, and outsized ones (see the crate README).
     pub unbounded_prims: u64,
     /// Nested grids in all, over every level ([`GridConfig::nest_min_refs`]).
     pub nested_cells: u64,

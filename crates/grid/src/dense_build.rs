@@ -24,7 +24,6 @@
 //! The passes over the records (and over the primitives) prefetch ahead.
 
 use crate::cells::CellsOut;
-use crate::geom::is_gridded;
 use crate::geom::Geom;
 use crate::par::{chunk_bounds, chunk_count, map_indices, SharedMut};
 use crate::radix;
@@ -96,7 +95,7 @@ pub(crate) fn build_dense<P: Primitive>(
         for (prim, p) in (s as u32..).zip(&prims[s..e]) {
             crate::mem::prefetch_at(prims, prim as usize, false);
             let b = p.bounds(shared);
-            if !all_gridded && !is_gridded(&b) {
+            if !all_gridded && !g.holds(&b) {
                 continue;
             }
             let (lo, hi) = g.cell_range(&b);

@@ -104,6 +104,11 @@ pub(crate) struct Geom {
     /// replaced by `−∞` and `+∞`, so that the crossing after the last
     /// interior plane is `+∞` in either direction.
     pub walk: [Box<[Real]>; 3],
+    /// The longest box edge a gridded primitive may have: primitives with a
+    /// longer one (a ground far larger than the model on it) are kept out
+    /// of the cells with the unbounded ones ([`crate::build`]); `+∞` when
+    /// none is.
+    pub outsized: Real,
 }
 
 impl Geom {
@@ -121,6 +126,7 @@ impl Geom {
             inv: Vec3::ZERO,
             last: Vec3::ZERO,
             walk: [Box::new([]), Box::new([]), Box::new([])],
+            outsized: Real::INFINITY,
         }
     }
 
@@ -172,9 +178,17 @@ impl Geom {
                 (dims[2] - 1) as Real,
             ),
             walk,
+            outsized: Real::INFINITY,
         };
         g.set_pad(pad);
         g
+    }
+
+    /// Whether the cells hold a primitive with box `b`: [`is_gridded`] and
+    /// no edge longer than [`Geom::outsized`].
+    #[inline(always)]
+    pub(crate) fn holds(&self, b: &Aabb) -> bool {
+        gridded(b).is_some_and(|(min, max)| !(longest_edge(min, max) > self.outsized))
     }
 
     /// The same geometry with the extent part of the insertion pad widened
@@ -466,6 +480,13 @@ pub(crate) fn cap_cells(mut dims: [u64; 3], max_cells: u64) -> [u32; 3] {
 #[inline]
 pub(crate) fn is_gridded(b: &Aabb) -> bool {
     gridded(b).is_some()
+}
+
+/// The longest edge of the box with corners `min` and `max` (as
+/// [`gridded`] gives them).
+#[inline(always)]
+pub(crate) fn longest_edge(min: Lanes, max: Lanes) -> Real {
+    (max - min).max_element()
 }
 
 /// The corners of a primitive box as [`Lanes`], if [`is_gridded`].

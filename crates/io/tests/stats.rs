@@ -131,9 +131,11 @@ fn rays_stats_hold_the_figures_and_threads_change_nothing() {
     let dir = tempfile::tempdir().unwrap();
     stadium(dir.path(), 4096);
     let mut answers = Vec::new();
+    // The stadium's 12 triangles are outsized beside the ball's: `auto`
+    // sets them aside and keeps a flat grid over the ball.
     for (accel, threads, built) in [
-        ("auto", "1", "hierarchy"),
-        ("auto", "3", "hierarchy"),
+        ("auto", "1", "grid"),
+        ("auto", "3", "grid"),
         ("grid", "2", "grid"),
         ("hierarchy", "1", "hierarchy"),
         ("exhaustive", "2", "exhaustive"),

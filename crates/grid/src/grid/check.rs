@@ -17,7 +17,8 @@ impl<P: Primitive> Grid<P> {
     /// cell, keys in Morton order), that every gridded primitive is in
     /// exactly the cells its padded box overlaps (or, with exact insertion,
     /// in every such cell it reports touching and no other), that the
-    /// unbounded list holds exactly the primitives with non-finite boxes,
+    /// unbounded list holds exactly the primitives with non-finite or
+    /// outsized boxes ([`Geom::holds`](crate::geom::Geom::holds)),
     /// that every primitive has exactly one slot, and that the stats match.
     pub fn check_invariants(&self) -> Result<(), String> {
         let g = &self.geom;
@@ -170,7 +171,7 @@ impl<P: Primitive> Grid<P> {
         for (slot, prim) in self.prims.iter().enumerate() {
             let p = self.ids[slot] as usize;
             let b = prim.bounds(&self.shared);
-            if !crate::geom::is_gridded(&b) {
+            if !g.holds(&b) {
                 unbounded.push(slot as u32);
                 continue;
             }

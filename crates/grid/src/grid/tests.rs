@@ -212,8 +212,9 @@ fn a_far_ray_walks_the_wide_grid_of_a_crowded_cell() {
             Ball(c, 0.002)
         })
         .collect();
-    balls.push(Ball(Vec3::splat(-8000.0), 1.0));
-    balls.push(Ball(Vec3::splat(8000.0), 1.0));
+    // Far, and as small as the rest (a large one would be set aside).
+    balls.push(Ball(Vec3::splat(-8000.0), 0.002));
+    balls.push(Ball(Vec3::splat(8000.0), 0.002));
     let build = || Grid::build(balls.clone(), &GridConfig::default());
     let g = build();
     g.check_invariants().expect("a valid grid");
@@ -307,8 +308,9 @@ fn a_ray_beyond_every_reach_tests_a_cluster_only_if_it_meets_its_box() {
             Ball(c + Vec3::splat(1000.0), 0.0002)
         })
         .collect();
-    balls.push(Ball(Vec3::splat(-8000.0), 1.0));
-    balls.push(Ball(Vec3::splat(8000.0), 1.0));
+    // Far, and as small as the rest (a large one would be set aside).
+    balls.push(Ball(Vec3::splat(-8000.0), 0.0002));
+    balls.push(Ball(Vec3::splat(8000.0), 0.0002));
     let g = Grid::build(balls.clone(), &GridConfig::default());
     g.check_invariants().expect("a valid grid");
     let ex = Exhaustive::new(balls.clone());
@@ -349,4 +351,93 @@ fn a_ray_beyond_every_reach_tests_a_cluster_only_if_it_meets_its_box() {
     let sub = &mut g.nested.subs[0];
     sub.outer = sub.geom.bounds;
     assert!(g.check_invariants().is_err());
+}
+
+/// 2,000 small balls in the unit cube and `big` balls 1,000 times larger
+/// below them (the first and the last identical, so that their hits tie).
+fn cluster_on_ground(big: usize) -> Vec<Ball> {
+    let mut seed = 11;
+    let ground = |k: usize| Ball(Vec3::new(0.5 + k as Real, -500.5, 0.5), 500.0);
+    let mut prims: Vec<Ball> = (big > 0).then(|| ground(0)).into_iter().collect();
+    prims.extend((0..2000).map(|_| {
+        Ball(
+            Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)),
+            0.01,
+        )
+    }));
+    prims.extend((1..big.saturating_sub(1)).map(ground));
+    if big > 1 {
+        prims.push(ground(0));
+    }
+    prims
+}
+
+#[test]
+fn outsized_primitives_are_set_aside_and_the_answers_stay_exact() {
+    let prims = cluster_on_ground(3);
+    let e = Exhaustive::new(prims.clone());
+    let mut seed = 5;
+    for storage in [CellStorage::Dense, CellStorage::Hashed] {
+        for mailbox in [false, true] {
+            let config = GridConfig {
+                storage,
+                mailbox,
+                ..GridConfig::default()
+            };
+            let g = Grid::build(prims.clone(), &config);
+            g.check_invariants().expect("invariants");
+            assert_eq!(g.unbounded_primitives(), vec![0, 2001, 2002]);
+            assert_eq!(g.stats().unbounded_prims, 3);
+            // The grid spans the small balls, not the ground.
+            assert!(g.geom.bounds.extent().max_element() < 1.1);
+            let mut sc = g.scratch();
+            let (mut ground, mut small) = (0, 0);
+            for i in 0..4000 {
+                let o = Vec3::new(
+                    lcg(&mut seed) * 8.0 - 4.0,
+                    lcg(&mut seed) * 6.0 - 1.0,
+                    lcg(&mut seed) * 8.0 - 4.0,
+                );
+                let target = if i % 2 == 0 {
+                    prims[1 + i % 2000].0
+                } else {
+                    Vec3::new(lcg(&mut seed), -0.5 * lcg(&mut seed), lcg(&mut seed))
+                };
+                let r = Ray::new(o, target - o);
+                let want = e.closest_hit(&r, 0.0, Real::INFINITY, &mut ());
+                assert_eq!(g.closest_hit(&r, 0.0, Real::INFINITY, &mut sc), want);
+                assert_eq!(
+                    g.any_hit(&r, 0.0, 0.5, &mut sc),
+                    e.any_hit(&r, 0.0, 0.5, &mut ())
+                );
+                match want.map(|h| h.prim) {
+                    Some(0) => ground += 1,
+                    Some(p) => {
+                        // The ground's twin (last) never wins a tie.
+                        assert!(p != 2002);
+                        small += usize::from(p <= 2000);
+                    }
+                    None => {}
+                }
+            }
+            assert!(ground > 500 && small > 500, "{ground} {small}");
+        }
+    }
+}
+
+#[test]
+fn outsized_primitives_stay_in_the_cells_when_setting_them_aside_would_not_pay() {
+    // Seventeen of them: more than a ray should test besides the grid.
+    let g = Grid::build(cluster_on_ground(17), &GridConfig::default());
+    assert!(g.unbounded_primitives().is_empty());
+    g.check_invariants().expect("invariants");
+    // One as large as the cluster's box: the box of the rest is no smaller.
+    let mut prims = cluster_on_ground(0);
+    for p in &mut prims {
+        p.0 *= 100.0;
+    }
+    prims.push(Ball(Vec3::splat(50.0), 40.0));
+    let g = Grid::build(prims, &GridConfig::default());
+    assert!(g.unbounded_primitives().is_empty());
+    g.check_invariants().expect("invariants");
 }
