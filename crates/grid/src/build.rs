@@ -116,7 +116,10 @@ pub(crate) fn build<P: Primitive>(
         edges = edges.merge(e);
     }
     let mut outsized = Real::INFINITY;
-    if let Some(o) = Outsized::find(prims, shared, &bounds, gridded, &edges) {
+    let aside = config
+        .set_aside_outsized
+        .then(|| Outsized::find(prims, shared, &bounds, gridded, &edges));
+    if let Some(o) = aside.flatten() {
         outsized = o.limit;
         bounds = o.core;
         gridded -= o.prims.len();

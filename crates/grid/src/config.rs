@@ -124,6 +124,11 @@ pub struct GridConfig {
     /// default; the crate README measures it). Within the memory budget:
     /// a grid that would exceed it keeps none.
     pub cell_groups: bool,
+    /// Keep a few primitives far larger than the rest (a ground under a
+    /// model) out of the cells, tested by every query like unbounded ones,
+    /// so that the grid spans the rest only (the default; the crate README
+    /// gives the rule). Off, every finite box is gridded.
+    pub set_aside_outsized: bool,
 }
 
 /// The `nest_min_refs` of the hierarchy that nests every crowded cell
@@ -255,6 +260,7 @@ impl Default for GridConfig {
             memory_budget: None,
             slab: SlabTest::Robust,
             cell_groups: true,
+            set_aside_outsized: true,
         }
     }
 }

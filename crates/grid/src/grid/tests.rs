@@ -212,10 +212,15 @@ fn a_far_ray_walks_the_wide_grid_of_a_crowded_cell() {
             Ball(c, 0.002)
         })
         .collect();
-    // Far, and as small as the rest (a large one would be set aside).
-    balls.push(Ball(Vec3::splat(-8000.0), 0.002));
-    balls.push(Ball(Vec3::splat(8000.0), 0.002));
-    let build = || Grid::build(balls.clone(), &GridConfig::default());
+    balls.push(Ball(Vec3::splat(-8000.0), 1.0));
+    balls.push(Ball(Vec3::splat(8000.0), 1.0));
+    // The far balls stay in the cells (set aside, the grid would span the
+    // cluster alone).
+    let config = GridConfig {
+        set_aside_outsized: false,
+        ..GridConfig::default()
+    };
+    let build = || Grid::build(balls.clone(), &config);
     let g = build();
     g.check_invariants().expect("a valid grid");
     let owner = g.nested.subs.iter().find(|s| s.wide.is_some());
@@ -308,10 +313,13 @@ fn a_ray_beyond_every_reach_tests_a_cluster_only_if_it_meets_its_box() {
             Ball(c + Vec3::splat(1000.0), 0.0002)
         })
         .collect();
-    // Far, and as small as the rest (a large one would be set aside).
-    balls.push(Ball(Vec3::splat(-8000.0), 0.0002));
-    balls.push(Ball(Vec3::splat(8000.0), 0.0002));
-    let g = Grid::build(balls.clone(), &GridConfig::default());
+    balls.push(Ball(Vec3::splat(-8000.0), 1.0));
+    balls.push(Ball(Vec3::splat(8000.0), 1.0));
+    let config = GridConfig {
+        set_aside_outsized: false,
+        ..GridConfig::default()
+    };
+    let g = Grid::build(balls.clone(), &config);
     g.check_invariants().expect("a valid grid");
     let ex = Exhaustive::new(balls.clone());
     let (mut gs, mut es) = (g.scratch(), ex.scratch());
@@ -439,5 +447,14 @@ fn outsized_primitives_stay_in_the_cells_when_setting_them_aside_would_not_pay()
     prims.push(Ball(Vec3::splat(50.0), 40.0));
     let g = Grid::build(prims, &GridConfig::default());
     assert!(g.unbounded_primitives().is_empty());
+    g.check_invariants().expect("invariants");
+    // Or when the configuration says so.
+    let config = GridConfig {
+        set_aside_outsized: false,
+        ..GridConfig::default()
+    };
+    let g = Grid::build(cluster_on_ground(3), &config);
+    assert!(g.unbounded_primitives().is_empty());
+    assert!(g.geom.bounds.extent().max_element() > 1000.0);
     g.check_invariants().expect("invariants");
 }
