@@ -243,13 +243,15 @@ impl Edges {
     /// An edge at or above the sample's median, and the longest edge of all.
     fn median_and_max(&self) -> Option<(f64, Real)> {
         let samples: u64 = self.bins.iter().map(|&b| u64::from(b)).sum();
+        if samples == 0 {
+            return None;
+        }
         let mut seen = 0;
         let bin = self.bins.iter().position(|&b| {
             seen += u64::from(b);
             2 * seen >= samples
         })?;
-        let above = 2f64.powi(bin as i32 - 64);
-        (samples > 0).then(|| (above, self.max.max_element()))
+        Some((2f64.powi(bin as i32 - 64), self.max.max_element()))
     }
 }
 
