@@ -770,8 +770,14 @@ fn grid_line(g: &GridStats) -> String {
     if g.grouped_cells > 0 {
         kinds += &format!(", {} with group boxes", g.grouped_cells);
     }
+    // Primitives tested by every ray instead of through the cells.
+    let outside = match g.unbounded_prims {
+        0 => String::new(),
+        1 => ", 1 primitive outside the cells".to_string(),
+        n => format!(", {n} primitives outside the cells"),
+    };
     format!(
-        "grid        {}×{}×{} = {} cells, {} occupied ({:.1}%{kinds}), {} refs ({:.2} per occupied cell, max {}), {:.2} MiB\n",
+        "grid        {}×{}×{} = {} cells, {} occupied ({:.1}%{kinds}), {} refs ({:.2} per occupied cell, max {}){outside}, {:.2} MiB\n",
         g.dims[0],
         g.dims[1],
         g.dims[2],

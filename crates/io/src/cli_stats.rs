@@ -88,6 +88,9 @@ pub(crate) struct GridJson {
     levels: Vec<LevelJson>,
     /// Cells tested by groups of four with a box each.
     grouped_cells: u64,
+    /// Primitives kept outside the cells and tested by every ray: those
+    /// whose box is not finite, and outsized ones (a ground under a model).
+    prims_outside_cells: u64,
     budget: usize,
     bytes: usize,
 }
@@ -165,6 +168,7 @@ impl GridJson {
             nest_min_refs: g.nest_min_refs,
             levels: g.levels.iter().map(LevelJson::from).collect(),
             grouped_cells: g.grouped_cells,
+            prims_outside_cells: g.unbounded_prims,
             budget: g.budget,
             bytes: g.bytes,
         }

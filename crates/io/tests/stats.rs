@@ -177,12 +177,18 @@ fn rays_stats_hold_the_figures_and_threads_change_nothing() {
             if built == "grid" {
                 assert!(j["grid"]["grouped_cells"].as_u64().unwrap() > 0, "{j}");
             }
+            // The walls are the primitives kept outside the cells (under
+            // `hierarchy` too, which decides cell by cell below them).
+            assert_eq!(j["grid"]["prims_outside_cells"].as_u64(), Some(12), "{j}");
             assert!(j["grid"]["nested_grids"].as_u64().is_some());
         }
         answers.push(out);
     }
     // Same answers whatever the accelerator and the thread count.
     assert!(answers.windows(2).all(|w| w[0] == w[1]));
+    // `info` says so on its grid line.
+    let info = ok(&gridrt(&["info", "stadium.obj"], dir.path()));
+    assert!(info.contains(", 12 primitives outside the cells"), "{info}");
 }
 
 #[test]
