@@ -35,6 +35,15 @@ impl Primitive for Ball {
     }
 }
 
+/// The default configuration with every finite box gridded, outsized or
+/// not ([`GridConfig::set_aside_outsized`] off).
+fn outsized_kept_in() -> GridConfig {
+    GridConfig {
+        set_aside_outsized: false,
+        ..GridConfig::default()
+    }
+}
+
 fn lcg(s: &mut u64) -> Real {
     *s = s
         .wrapping_mul(6364136223846793005)
@@ -216,10 +225,7 @@ fn a_far_ray_walks_the_wide_grid_of_a_crowded_cell() {
     balls.push(Ball(Vec3::splat(8000.0), 1.0));
     // The far balls stay in the cells (set aside, the grid would span the
     // cluster alone).
-    let config = GridConfig {
-        set_aside_outsized: false,
-        ..GridConfig::default()
-    };
+    let config = outsized_kept_in();
     let build = || Grid::build(balls.clone(), &config);
     let g = build();
     g.check_invariants().expect("a valid grid");
@@ -315,10 +321,7 @@ fn a_ray_beyond_every_reach_tests_a_cluster_only_if_it_meets_its_box() {
         .collect();
     balls.push(Ball(Vec3::splat(-8000.0), 1.0));
     balls.push(Ball(Vec3::splat(8000.0), 1.0));
-    let config = GridConfig {
-        set_aside_outsized: false,
-        ..GridConfig::default()
-    };
+    let config = outsized_kept_in();
     let g = Grid::build(balls.clone(), &config);
     g.check_invariants().expect("a valid grid");
     let ex = Exhaustive::new(balls.clone());
@@ -449,10 +452,7 @@ fn outsized_primitives_stay_in_the_cells_when_setting_them_aside_would_not_pay()
     assert!(g.unbounded_primitives().is_empty());
     g.check_invariants().expect("invariants");
     // Or when the configuration says so.
-    let config = GridConfig {
-        set_aside_outsized: false,
-        ..GridConfig::default()
-    };
+    let config = outsized_kept_in();
     let g = Grid::build(cluster_on_ground(3), &config);
     assert!(g.unbounded_primitives().is_empty());
     assert!(g.geom.bounds.extent().max_element() > 1000.0);
