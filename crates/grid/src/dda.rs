@@ -8,6 +8,7 @@
 //! the walk, and insertion uses the very same planes.
 
 use crate::geom::Geom;
+use gridrt_bbox::math::Vec3Lanes;
 use gridrt_bbox::{Ray, Real};
 use std::ops::ControlFlow;
 
@@ -215,6 +216,95 @@ impl<'g> Dda<'g> {
         }
         let (t0, t1) = g.entry.hit_with(g.slab, ray, t_min, t_max)?;
         entered();
+        Some(Self::start_lanes(g, ray, t0, t1).unwrap_or_else(|| Self::start_exact(g, ray, t0, t1)))
+    }
+
+    /// The walk from the entry `t0` (to `t1`) of the three axes at once, in
+    /// SIMD lanes: [`Dda::start_exact`]'s answer whenever its corrections
+    /// have nothing to correct (the entry point lies in the cell of the
+    /// guess from the cell size, and the ray does not cross that cell's
+    /// entry-side plane after `t0`), else `None`. The same operations on
+    /// the same operands as there, lane by lane, so the very same values.
+    ///
+    /// The walk planes stand for the cell planes in the tests: they differ
+    /// only in the outer two, which are `∓∞` there, and those tests then
+    /// hold or fail as the guards of [`Geom::cell_of`] and of the entry
+    /// correction make them.
+    #[inline(always)]
+    fn start_lanes(g: &'g Geom, ray: &Ray, t0: Real, t1: Real) -> Option<Self> {
+        let [min, inv_cell, last] = g.lanes;
+        let (o, d, inv) = (
+            Vec3Lanes::from(ray.origin),
+            Vec3Lanes::from(ray.dir),
+            Vec3Lanes::from(ray.inv_dir),
+        );
+        let moving = inv.is_finite_mask() & inv.cmpne(Vec3Lanes::ZERO);
+        let p = Vec3Lanes::select(moving, o + d * t0, o);
+        // `Geom::cell_of`'s guess: 0 for NaN and negatives, at most `last`.
+        let f = (p - min) * inv_cell;
+        let guess = Vec3Lanes::select(
+            f.cmpgt(Vec3Lanes::ZERO),
+            Vec3Lanes::select(f.cmplt(last), f, last),
+            Vec3Lanes::ZERO,
+        );
+        // SAFETY: each lane is in `[0, dims − 1]` (below 2^31): finite and
+        // in range of the conversion, which truncates as `as` does.
+        let idx = guess
+            .to_array()
+            .map(|v| unsafe { v.to_int_unchecked::<i32>() } as u32);
+        let base = [g.walk[0].as_ptr(), g.walk[1].as_ptr(), g.walk[2].as_ptr()];
+        // SAFETY: `idx[a] <= dims[a] − 1`, and the walk planes have
+        // `dims[a] + 1` entries.
+        let (lo, hi) = unsafe {
+            (
+                Vec3Lanes::from_array(std::array::from_fn(|a| *base[a].add(idx[a] as usize))),
+                Vec3Lanes::from_array(std::array::from_fn(|a| *base[a].add(idx[a] as usize + 1))),
+            )
+        };
+        // The cell of `p` on every axis (as `cell_of` corrects it).
+        if (p.cmplt(lo) | p.cmpge(hi)).any() {
+            return None;
+        }
+        let walks = moving & last.cmpgt(Vec3Lanes::ZERO);
+        let down = walks & inv.cmplt(Vec3Lanes::ZERO);
+        // The entry-side plane, crossed after `t0`: the cell before.
+        let entry_side = Vec3Lanes::select(down, hi, lo);
+        if (walks & ((entry_side - o) * inv).cmpgt(Vec3Lanes::splat(t0))).any() {
+            return None;
+        }
+        let t_next = Vec3Lanes::select(
+            walks,
+            (Vec3Lanes::select(down, lo, hi) - o) * inv,
+            Vec3Lanes::INFINITY,
+        );
+        let (walks, down) = (walks.bitmask(), down.bitmask());
+        let bit = |m: u32, a: usize| m >> a & 1 != 0;
+        Some(Dda {
+            // The plane after the cell (before it walking down); the first
+            // for an axis not walked, as in `start_exact`. SAFETY: as above,
+            // `idx[a] + 1 <= dims[a]`.
+            next: std::array::from_fn(|a| unsafe {
+                let k = idx[a] as usize + usize::from(!bit(down, a));
+                base[a].add(if bit(walks, a) { k } else { 0 })
+            }),
+            base,
+            dir: std::array::from_fn(|a| if bit(down, a) { -1 } else { 1 }),
+            org: ray.origin.to_array(),
+            inv: ray.inv_dir.to_array(),
+            idx,
+            neg: std::array::from_fn(|a| bit(down, a)),
+            t_next: t_next.to_array(),
+            t_enter: t0,
+            t_end: if t1 < Real::MAX { t1 } else { Real::MAX },
+            _geom: std::marker::PhantomData,
+        })
+    }
+
+    /// The walk from the entry `t0` (to `t1`), one axis at a time: the
+    /// entry cell from [`Geom::cell_of`], corrected for the rounding of the
+    /// entry point.
+    #[cold]
+    fn start_exact(g: &'g Geom, ray: &Ray, t0: Real, t1: Real) -> Self {
         // Built in locals and assembled at the end, so that the walk's
         // state is written once into the caller's slot, not copied there.
         let base = [g.walk[0].as_ptr(), g.walk[1].as_ptr(), g.walk[2].as_ptr()];
@@ -258,7 +348,7 @@ impl<'g> Dda<'g> {
             }
             idx[a] = i;
         }
-        Some(Dda {
+        Dda {
             next,
             base,
             dir,
@@ -271,7 +361,7 @@ impl<'g> Dda<'g> {
             // Keep the end finite so that a `+∞` crossing never compares below it.
             t_end: if t1 < Real::MAX { t1 } else { Real::MAX },
             _geom: std::marker::PhantomData,
-        })
+        }
     }
 
     /// The axis whose plane the ray crosses next, and the crossing.
@@ -743,3 +833,6 @@ impl std::iter::FusedIterator for CellIter<'_> {}
 unsafe impl Send for Dda<'_> {}
 // SAFETY: as above.
 unsafe impl Sync for Dda<'_> {}
+
+#[cfg(test)]
+mod tests;

@@ -439,7 +439,9 @@ fn sort_runs(ranges: &mut [Record], shift: u32, parallel: bool) {
     }
     map_slabs(parts, parallel, |part| {
         let buckets = 1usize << shift;
-        let mut counts = Vec::new();
+        // Bucket starts, then next free positions; and the run's records
+        // by cell. Both reused from run to run, never cleared in full.
+        let mut counts = vec![0u32; buckets + 1];
         let mut tmp: Vec<Record> = Vec::new();
         let mut i = 0;
         while i < part.len() {
@@ -457,22 +459,29 @@ fn sort_runs(ranges: &mut [Record], shift: u32, parallel: bool) {
                 group.sort_by_key(cell);
                 continue;
             }
-            counts.clear();
-            counts.resize(buckets + 1, 0u32);
+            counts.fill(0);
             for r in group.iter() {
-                counts[cell(r) + 1] += 1;
+                // SAFETY: `cell` is below `buckets` (masked by `shift` bits).
+                unsafe { *counts.get_unchecked_mut(cell(r) + 1) += 1 };
             }
-            for b in 1..=buckets {
-                counts[b] += counts[b - 1];
+            let mut acc = 0;
+            for c in counts.iter_mut() {
+                acc += *c;
+                *c = acc;
             }
-            tmp.clear();
-            tmp.resize(n, 0);
+            if tmp.len() < n {
+                tmp.resize(n, 0);
+            }
             for &r in group.iter() {
-                let slot = &mut counts[cell(&r)];
-                tmp[*slot as usize] = r;
-                *slot += 1;
+                // SAFETY: as above; the starts of the buckets `cell(r)` (each
+                // advanced once per record in it) stay below `n`, the total.
+                unsafe {
+                    let slot = counts.get_unchecked_mut(cell(&r));
+                    *tmp.get_unchecked_mut(*slot as usize) = r;
+                    *slot += 1;
+                }
             }
-            group.copy_from_slice(&tmp);
+            group.copy_from_slice(&tmp[..n]);
         }
     });
 }

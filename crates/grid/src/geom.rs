@@ -3,7 +3,7 @@
 //! where a cell begins and ends.
 
 use crate::morton;
-use gridrt_bbox::math::Lanes;
+use gridrt_bbox::math::{Lanes, Vec3Lanes};
 use gridrt_bbox::{Aabb, Real, SlabTest, Vec3};
 
 /// The insertion pad, in units of `Real::EPSILON` times the largest extent
@@ -100,6 +100,8 @@ pub(crate) struct Geom {
     pub inv: Vec3,
     /// `dims − 1` per axis, as a vector.
     pub last: Vec3,
+    /// `bounds.min`, `inv` and `last` in SIMD lanes, for the walk's set-up.
+    pub lanes: [Vec3Lanes; 3],
     /// The planes as the walk sees them: `planes` with the two outer faces
     /// replaced by `−∞` and `+∞`, so that the crossing after the last
     /// interior plane is `+∞` in either direction.
@@ -125,6 +127,7 @@ impl Geom {
             slab: SlabTest::Robust,
             inv: Vec3::ZERO,
             last: Vec3::ZERO,
+            lanes: [Vec3Lanes::ZERO; 3],
             walk: [Box::new([]), Box::new([]), Box::new([])],
             outsized: Real::INFINITY,
         }
@@ -162,6 +165,8 @@ impl Geom {
             w[n] = Real::INFINITY;
             w.into_boxed_slice()
         });
+        let inv = Vec3::from_array(inv_cell);
+        let last = Vec3::from_array(dims.map(|n| (n - 1) as Real));
         let mut g = Self {
             bounds,
             dims,
@@ -171,12 +176,9 @@ impl Geom {
             exact_planes: false,
             entry: bounds,
             slab: SlabTest::Robust,
-            inv: Vec3::from_array(inv_cell),
-            last: Vec3::new(
-                (dims[0] - 1) as Real,
-                (dims[1] - 1) as Real,
-                (dims[2] - 1) as Real,
-            ),
+            inv,
+            last,
+            lanes: [bounds.min, inv, last].map(Vec3Lanes::from),
             walk,
             outsized: Real::INFINITY,
         };
