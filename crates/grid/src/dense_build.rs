@@ -86,7 +86,10 @@ pub(crate) fn build_dense<P: Primitive>(
     let chunks = radix::chunks(n, parallel);
     let mut ranges: Vec<Record> = crate::mem::with_capacity(n);
     let dst = SharedMut(ranges.as_mut_ptr());
-    let parts = map_indices(chunks, parallel, |c| {
+    // `move`: the switches and sizes are the closure's own values, which the
+    // compiler keeps in registers (read through references, they would be
+    // reloaded at every primitive, the records' writes aliasing them).
+    let parts = map_indices(chunks, parallel, move |c| {
         let (s, e) = chunk_bounds(n, chunks, c);
         let mut len = 0;
         let mut volume = 0u64;
@@ -172,29 +175,12 @@ pub(crate) fn build_dense<P: Primitive>(
         let ranges = &ranges;
         let slab_totals: Vec<(u64, u32, u64)> =
             map_slabs(slab_counts, parallel, |(slab, counts)| {
-                let lo = slab.z0 * nxy;
-                for_each_ref(
-                    prims,
-                    shared,
-                    g,
-                    ranges,
-                    slab,
-                    exact,
-                    false,
-                    |v, _, _| match v {
-                        Visit::Cell(c) => counts[c - lo] += 1,
-                        Visit::Block(at, code) => {
-                            // All eight corners, each adding 0 or 1: no branch
-                            // on the range's shape, which no predictor guesses.
-                            let mask = IN_RANGE[code];
-                            let w = &mut counts[at - lo..=at - lo + span];
-                            for (i, &o) in corners.iter().enumerate() {
-                                // SAFETY: `o <= span` (the last corner is the farthest).
-                                unsafe { *w.get_unchecked_mut(o) += (mask >> i) & 1 };
-                            }
-                        }
-                    },
-                );
+                let mut count = Count {
+                    counts: &mut *counts,
+                    lo: slab.z0 * nxy,
+                    corners,
+                };
+                for_each_ref(prims, shared, g, ranges, slab, exact, false, &mut count);
                 // Local inclusive scan, with the slab's occupancy and largest cell.
                 let mut acc = 0u32;
                 let mut occupied = 0u64;
@@ -264,34 +250,15 @@ pub(crate) fn build_dense<P: Primitive>(
             out
         });
         map_slabs(work, parallel, |(slab, offs, out, base)| {
-            let lo = slab.z0 * nxy;
-            for_each_ref(
-                prims,
-                shared,
-                g,
-                ranges,
-                slab,
-                exact,
-                true,
-                |visit, _, v| {
-                    match visit {
-                        Visit::Cell(c) => {
-                            let o = &mut offs[c - lo];
-                            *o -= 1;
-                            out[*o as usize - base] = v;
-                        }
-                        Visit::Block(at, code) => {
-                            // The range's corners only: here the branches on
-                            // its shape cost less than writing all eight.
-                            let w = &mut offs[at - lo..=at - lo + span];
-                            for &o in &shapes[code][..1 << code.count_ones()] {
-                                w[o] -= 1;
-                                out[w[o] as usize - base] = v;
-                            }
-                        }
-                    }
-                },
-            );
+            let mut fill = Fill {
+                offs,
+                out,
+                lo: slab.z0 * nxy,
+                base,
+                span,
+                shapes: &shapes,
+            };
+            for_each_ref(prims, shared, g, ranges, slab, exact, true, &mut fill);
         });
     }
     let ids =
@@ -501,13 +468,13 @@ fn map_slabs<W: Send, R: Send>(
     work.into_iter().map(f).collect()
 }
 
-/// Calls `f(visit, prim, record)` for the records, in order (reversed
-/// when `rev`): with [`Visit::Block`] for a record of at most 2×2×2 cells
-/// whose block lies wholly in the slab, else with [`Visit::Cell`] for
-/// every cell of its range in the slab.
+/// Hands the records to `v`, in order (reversed when `rev`), each with
+/// its slot (its position in the records): to [`Visitor::block`] for a
+/// record of at most 2×2×2 cells whose block lies wholly in the slab, else
+/// to [`Visitor::cell`] for every cell of its range in the slab.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)] // the primitives, what they share, the geometry and the build's switches
-fn for_each_ref<P: Primitive, F: FnMut(Visit, u32, u32)>(
+fn for_each_ref<P: Primitive, V: Visitor>(
     prims: &[P],
     shared: &P::Shared,
     g: &Geom,
@@ -515,7 +482,7 @@ fn for_each_ref<P: Primitive, F: FnMut(Visit, u32, u32)>(
     slab: &Slab,
     exact: bool,
     rev: bool,
-    mut f: F,
+    v: &mut V,
 ) {
     let [nx, ny, nz] = g.dims.map(|d| d as usize);
     let nxy = nx * ny;
@@ -531,16 +498,15 @@ fn for_each_ref<P: Primitive, F: FnMut(Visit, u32, u32)>(
     let corners = corners(g);
     let span = corners[7];
     // A record through the general case, out of line.
-    let far = |slot: usize, prim: u32, f: &mut F| {
+    let far = |slot: usize, prim: u32, v: &mut V| {
         general(prims, shared, g, exact, z0, z1, prim, &mut |c| {
-            f(Visit::Cell(c), prim, slot as u32)
+            v.cell(c, slot as u32);
         });
     };
-    let one = |slot: usize, r: Record, f: &mut F| {
-        let prim = r as u32;
+    let one = |slot: usize, r: Record, v: &mut V| {
         let code = (r >> 32) & 0xf;
         if code == GENERAL || exact {
-            far(slot, prim, f);
+            far(slot, r as u32, v);
             return;
         }
         let slot = slot as u32;
@@ -548,13 +514,13 @@ fn for_each_ref<P: Primitive, F: FnMut(Visit, u32, u32)>(
         // slab (else the cells of the range that are).
         let base = (r >> BASE_SHIFT) as usize;
         if base >= lin0 && base + span < lin1 {
-            f(Visit::Block(base, code as usize), prim, slot);
+            v.block(base, code as usize, slot);
             return;
         }
         for (i, &o) in corners.iter().enumerate() {
             let c = base + o;
             if IN_RANGE[code as usize] >> i & 1 != 0 && (whole || (lin0..lin1).contains(&c)) {
-                f(Visit::Cell(c), prim, slot);
+                v.cell(c, slot);
             }
         }
     };
@@ -563,28 +529,86 @@ fn for_each_ref<P: Primitive, F: FnMut(Visit, u32, u32)>(
     if rev {
         for (i, &r) in window.iter().enumerate().rev() {
             crate::mem::prefetch_at(window, i, true);
-            one(first + i, r, &mut f);
+            one(first + i, r, v);
         }
         for &slot in before.iter().rev() {
-            far(slot, ranges[slot] as u32, &mut f);
+            far(slot, ranges[slot] as u32, v);
         }
     } else {
         for &slot in before {
-            far(slot, ranges[slot] as u32, &mut f);
+            far(slot, ranges[slot] as u32, v);
         }
         for (i, &r) in window.iter().enumerate() {
             crate::mem::prefetch_at(window, i, false);
-            one(first + i, r, &mut f);
+            one(first + i, r, v);
         }
     }
 }
 
-/// What [`for_each_ref`] hands on: one cell, or the 2×2×2 block of cells
-/// from a record's first cell, with the record's shape code.
-#[derive(Clone, Copy)]
-enum Visit {
-    Cell(usize),
-    Block(usize, usize),
+/// What [`for_each_ref`] hands the references to. `block` is the hot
+/// path, called at one place so that it is inlined into the loop over the
+/// records; `cell` is the rare one.
+trait Visitor {
+    /// The 2×2×2 block of cells from `at` (cells of the slab), of which
+    /// the record's range (shape `code`) holds the slot.
+    fn block(&mut self, at: usize, code: usize, slot: u32);
+    /// One cell of the slab that holds the slot.
+    fn cell(&mut self, c: usize, slot: u32);
+}
+
+/// The counting pass: one slab's counts, from the slab's first cell `lo`.
+struct Count<'a> {
+    counts: &'a mut [u32],
+    lo: usize,
+    corners: [usize; 8],
+}
+
+impl Visitor for Count<'_> {
+    #[inline(always)]
+    fn block(&mut self, at: usize, code: usize, _: u32) {
+        // All eight corners, each adding 0 or 1: no branch on the range's
+        // shape, which no predictor guesses.
+        let mask = IN_RANGE[code];
+        let w = &mut self.counts[at - self.lo..=at - self.lo + self.corners[7]];
+        for (i, &o) in self.corners.iter().enumerate() {
+            // SAFETY: `o <= corners[7]` (the last corner is the farthest).
+            unsafe { *w.get_unchecked_mut(o) += (mask >> i) & 1 };
+        }
+    }
+
+    fn cell(&mut self, c: usize, _: u32) {
+        self.counts[c - self.lo] += 1;
+    }
+}
+
+/// The filling pass: one slab's offsets (from its first cell `lo`) and
+/// references (from reference `base`), with the corners of each shape.
+struct Fill<'a> {
+    offs: &'a mut [u32],
+    out: &'a mut [u32],
+    lo: usize,
+    base: usize,
+    span: usize,
+    shapes: &'a [[usize; 8]; 8],
+}
+
+impl Visitor for Fill<'_> {
+    #[inline(always)]
+    fn block(&mut self, at: usize, code: usize, slot: u32) {
+        // The range's corners only: here the branches on its shape cost
+        // less than writing all eight.
+        let w = &mut self.offs[at - self.lo..=at - self.lo + self.span];
+        for &o in &self.shapes[code][..1 << code.count_ones()] {
+            w[o] -= 1;
+            self.out[w[o] as usize - self.base] = slot;
+        }
+    }
+
+    fn cell(&mut self, c: usize, slot: u32) {
+        let o = &mut self.offs[c - self.lo];
+        *o -= 1;
+        self.out[*o as usize - self.base] = slot;
+    }
 }
 
 /// For each shape code, bit `i` set when [corner](corners) `i` of the
