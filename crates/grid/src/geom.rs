@@ -96,11 +96,8 @@ pub(crate) struct Geom {
     pub entry: Aabb,
     /// The slab test that decides the entry ([`crate::GridConfig::slab`]).
     pub slab: SlabTest,
-    /// `inv_cell` as a vector.
-    pub inv: Vec3,
-    /// `dims − 1` per axis, as a vector.
-    pub last: Vec3,
-    /// `bounds.min`, `inv` and `last` in SIMD lanes, for the walk's set-up.
+    /// `bounds.min`, `inv_cell` and `dims − 1` per axis in SIMD lanes, for
+    /// the build's cell ranges and the walk's set-up.
     pub lanes: [Vec3Lanes; 3],
     /// The planes as the walk sees them: `planes` with the two outer faces
     /// replaced by `−∞` and `+∞`, so that the crossing after the last
@@ -125,8 +122,6 @@ impl Geom {
             exact_planes: false,
             entry: Aabb::EMPTY,
             slab: SlabTest::Robust,
-            inv: Vec3::ZERO,
-            last: Vec3::ZERO,
             lanes: [Vec3Lanes::ZERO; 3],
             walk: [Box::new([]), Box::new([]), Box::new([])],
             outsized: Real::INFINITY,
@@ -165,7 +160,6 @@ impl Geom {
             w[n] = Real::INFINITY;
             w.into_boxed_slice()
         });
-        let inv = Vec3::from_array(inv_cell);
         let last = Vec3::from_array(dims.map(|n| (n - 1) as Real));
         let mut g = Self {
             bounds,
@@ -176,9 +170,7 @@ impl Geom {
             exact_planes: false,
             entry: bounds,
             slab: SlabTest::Robust,
-            inv,
-            last,
-            lanes: [bounds.min, inv, last].map(Vec3Lanes::from),
+            lanes: [bounds.min, Vec3::from_array(inv_cell), last].map(Vec3Lanes::from),
             walk,
             outsized: Real::INFINITY,
         };
@@ -281,10 +273,12 @@ impl Geom {
     /// parts cover, so such a primitive is in the cells on both sides.
     #[inline(always)]
     pub(crate) fn cell_range(&self, b: &Aabb) -> ([u32; 3], [u32; 3]) {
-        let last = self.last;
+        // In `Vec3`s, whose `clamp` takes NaN to the lower end on every
+        // target (SIMD lanes' `max` does not on all).
+        let [min, inv, last] = self.lanes.map(Vec3::from);
         let (x0, x1) = (b.min - self.pad, b.max + self.pad);
-        let lo = ((x0 - self.bounds.min) * self.inv).clamp(Vec3::ZERO, last);
-        let hi = ((x1 - self.bounds.min) * self.inv).clamp(Vec3::ZERO, last);
+        let lo = ((x0 - min) * inv).clamp(Vec3::ZERO, last);
+        let hi = ((x1 - min) * inv).clamp(Vec3::ZERO, last);
         // SAFETY: clamped to `[0, dims − 1]` (NaN clamps to 0), so each value
         // is finite and fits an `i32` (at most 2^21 cells per axis); the
         // conversion truncates. (A signed conversion is one instruction,
