@@ -1,4 +1,4 @@
-use crate::math::{gamma, Real, Vec3, Vec3Lanes};
+use crate::math::{gamma, LaneChoice, Real, Vec3, Vec3Lanes};
 use crate::Ray;
 
 /// An axis-aligned box `[min.x, max.x] × [min.y, max.y] × [min.z, max.z]`.
@@ -277,9 +277,9 @@ impl Aabb {
         let empty = lo.cmpgt(hi).any();
         let t_lo = (lo - o) * inv;
         let t_hi = (hi - o) * inv;
-        let swap = t_lo.cmpgt(t_hi);
-        let near = Vec3Lanes::select(swap, t_hi, t_lo);
-        let far = Vec3Lanes::select(swap, t_lo, t_hi);
+        // Swapped where `t_lo > t_hi`: one choice each.
+        let near = t_hi.min_lt(t_lo);
+        let far = t_lo.max_gt(t_hi);
         // Widen the exit by 2·γ(3) of its magnitude. A tiny direction
         // component can overflow `far` to −∞, and then `far + |far|·w` is
         // −∞ + ∞ = NaN, which the comparisons below would silently skip (a

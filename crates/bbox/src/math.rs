@@ -80,6 +80,77 @@ pub fn gamma(n: u32) -> Real {
     nu / (1.0 - nu)
 }
 
+/// Lane-wise choices by one comparison, with that comparison's answer for
+/// NaN and signed zeros: `a.max_gt(b)` is `if a > b { a } else { b }` in
+/// each lane and `a.min_lt(b)` is `if a < b { a } else { b }` (both `b`
+/// when the lanes are unordered). Unlike `max` and `min`, whose NaN and
+/// `±0` answers differ between targets, these are the same everywhere: on
+/// x86 they are SSE's `maxps` and `minps`, one instruction where a compare
+/// and a select take three or four; elsewhere the select itself.
+pub trait LaneChoice: Sized {
+    /// `if a > b { a } else { b }` in each lane.
+    #[must_use]
+    fn max_gt(self, b: Self) -> Self;
+    /// `if a < b { a } else { b }` in each lane.
+    #[must_use]
+    fn min_lt(self, b: Self) -> Self;
+}
+
+/// Implements [`LaneChoice`] for a `glam` type held in an SSE register.
+#[cfg(all(not(feature = "f64"), target_feature = "sse2"))]
+macro_rules! sse_lane_choice {
+    ($t:ty) => {
+        impl LaneChoice for $t {
+            #[inline(always)]
+            fn max_gt(self, b: Self) -> Self {
+                #[cfg(target_arch = "x86")]
+                use std::arch::x86::_mm_max_ps;
+                #[cfg(target_arch = "x86_64")]
+                use std::arch::x86_64::_mm_max_ps;
+                // SAFETY: SSE2 is enabled (the `cfg`); `maxps` gives its
+                // first operand where it compares greater, else its second.
+                Self::from(unsafe { _mm_max_ps(self.into(), b.into()) })
+            }
+            #[inline(always)]
+            fn min_lt(self, b: Self) -> Self {
+                #[cfg(target_arch = "x86")]
+                use std::arch::x86::_mm_min_ps;
+                #[cfg(target_arch = "x86_64")]
+                use std::arch::x86_64::_mm_min_ps;
+                // SAFETY: as for `max_gt`; `minps` gives its first operand
+                // where it compares less, else its second.
+                Self::from(unsafe { _mm_min_ps(self.into(), b.into()) })
+            }
+        }
+    };
+}
+
+/// Implements [`LaneChoice`] by a comparison and a select.
+#[cfg(any(feature = "f64", not(target_feature = "sse2")))]
+macro_rules! select_lane_choice {
+    ($t:ty) => {
+        impl LaneChoice for $t {
+            #[inline(always)]
+            fn max_gt(self, b: Self) -> Self {
+                <$t>::select(self.cmpgt(b), self, b)
+            }
+            #[inline(always)]
+            fn min_lt(self, b: Self) -> Self {
+                <$t>::select(self.cmplt(b), self, b)
+            }
+        }
+    };
+}
+
+#[cfg(all(not(feature = "f64"), target_feature = "sse2"))]
+sse_lane_choice!(Lanes);
+#[cfg(all(not(feature = "f64"), target_feature = "sse2"))]
+sse_lane_choice!(Vec3Lanes);
+#[cfg(any(feature = "f64", not(target_feature = "sse2")))]
+select_lane_choice!(Lanes);
+#[cfg(any(feature = "f64", not(target_feature = "sse2")))]
+select_lane_choice!(Vec3Lanes);
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -109,6 +180,27 @@ mod tests {
             let nu = n as Real * UNIT_ROUNDOFF;
             assert!(g > nu && g < 1.01 * nu);
             prev = g;
+        }
+    }
+
+    #[test]
+    fn lane_choices_are_the_comparisons_answers() {
+        let nan = Real::NAN;
+        let a = Lanes::new(1.0, nan, 0.0, -0.0);
+        let b = Lanes::new(2.0, 3.0, -0.0, nan);
+        let bits = |v: Lanes| v.to_array().map(Real::to_bits);
+        for (x, y) in [(a, b), (b, a)] {
+            let want_max = Lanes::select(x.cmpgt(y), x, y);
+            let want_min = Lanes::select(x.cmplt(y), x, y);
+            assert_eq!(bits(x.max_gt(y)), bits(want_max));
+            assert_eq!(bits(x.min_lt(y)), bits(want_min));
+            let three = |v: Lanes| Vec3Lanes::new(v.x, v.y, v.z);
+            let (x3, y3) = (three(x), three(y));
+            let (m3, n3) = (x3.max_gt(y3), x3.min_lt(y3));
+            for k in 0..3 {
+                assert_eq!(m3[k].to_bits(), want_max[k].to_bits());
+                assert_eq!(n3[k].to_bits(), want_min[k].to_bits());
+            }
         }
     }
 

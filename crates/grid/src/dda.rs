@@ -8,7 +8,7 @@
 //! the walk, and insertion uses the very same planes.
 
 use crate::geom::Geom;
-use gridrt_bbox::math::Vec3Lanes;
+use gridrt_bbox::math::{LaneChoice, Vec3Lanes};
 use gridrt_bbox::{Ray, Real};
 use std::ops::ControlFlow;
 
@@ -242,11 +242,7 @@ impl<'g> Dda<'g> {
         let p = Vec3Lanes::select(moving, o + d * t0, o);
         // `Geom::cell_of`'s guess: 0 for NaN and negatives, at most `last`.
         let f = (p - min) * inv_cell;
-        let guess = Vec3Lanes::select(
-            f.cmpgt(Vec3Lanes::ZERO),
-            Vec3Lanes::select(f.cmplt(last), f, last),
-            Vec3Lanes::ZERO,
-        );
+        let guess = Vec3Lanes::select(f.cmpgt(Vec3Lanes::ZERO), f.min_lt(last), Vec3Lanes::ZERO);
         // SAFETY: each lane is in `[0, dims − 1]` (below 2^31): finite and
         // in range of the conversion, which truncates as `as` does.
         let idx = guess

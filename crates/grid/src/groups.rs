@@ -33,7 +33,7 @@ use crate::cells::Cells;
 use crate::geom::Geom;
 use crate::nested::Children;
 use crate::{morton, Primitive};
-use gridrt_bbox::math::Lanes;
+use gridrt_bbox::math::{LaneChoice, Lanes};
 use gridrt_bbox::{gamma, Aabb, Ray, Real};
 
 /// Cells with fewer references test them all: with fewer than three
@@ -168,15 +168,15 @@ impl GroupBlock {
             } else {
                 let t_lo = (lo - o) * ray.inv[a];
                 let t_hi = (hi - o) * ray.inv[a];
-                let swap = t_lo.cmpgt(t_hi);
-                let near = Lanes::select(swap, t_hi, t_lo);
-                let far = Lanes::select(swap, t_lo, t_hi);
+                // The robust test's swap of `t_lo > t_hi`, one choice each.
+                let near = t_hi.min_lt(t_lo);
+                let far = t_lo.max_gt(t_hi);
                 // `−∞ + ∞` is NaN; keep `far` then, as the scalar `max` does.
                 let wide = far + far.abs() * ray.widen;
-                (near, Lanes::select(wide.cmpgt(far), wide, far))
+                (near, wide.max_gt(far))
             };
-            t0 = Lanes::select(near.cmpgt(t0), near, t0);
-            t1 = Lanes::select(far.cmplt(t1), far, t1);
+            t0 = near.max_gt(t0);
+            t1 = far.min_lt(t1);
         }
         (!t0.cmpgt(t1).bitmask()) & 0xf
     }
