@@ -326,6 +326,7 @@ impl Primitive for MeshTriangle {
             t_max,
             None,
             keep,
+            #[inline(always)]
             |four| Self::may_hit_four(four, verts, shear),
         );
     }
@@ -342,9 +343,17 @@ impl Primitive for MeshTriangle {
         t_max: Real,
     ) -> bool {
         verts.prefetch_cell(prims, refs);
-        any_hits_prefiltered(prims, verts, refs, ray, shear, t_min, t_max, |four| {
-            Self::may_hit_four(four, verts, shear)
-        })
+        any_hits_prefiltered(
+            prims,
+            verts,
+            refs,
+            ray,
+            shear,
+            t_min,
+            t_max,
+            #[inline(always)]
+            |four| Self::may_hit_four(four, verts, shear),
+        )
     }
 
     #[inline]

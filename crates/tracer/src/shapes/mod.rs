@@ -170,6 +170,7 @@ impl Primitive for Shape {
             t_max,
             Some(best),
             keep,
+            #[inline(always)]
             |four| Shape::may_hit(ray, shear, four),
         );
     }
@@ -189,9 +190,17 @@ impl Primitive for Shape {
         if refs.len() < 4 {
             return any_hits_each(prims, shared, refs, ray, shear, t_min, t_max);
         }
-        any_hits_prefiltered(prims, shared, refs, ray, shear, t_min, t_max, |four| {
-            Shape::may_hit(ray, shear, four)
-        })
+        any_hits_prefiltered(
+            prims,
+            shared,
+            refs,
+            ray,
+            shear,
+            t_min,
+            t_max,
+            #[inline(always)]
+            |four| Shape::may_hit(ray, shear, four),
+        )
     }
 
     #[inline]

@@ -42,8 +42,8 @@ pub struct Shear {
     /// The origin's permuted coordinates `[o[kx], o[ky], o[kz]]`, each
     /// splatted into four lanes.
     pub(super) origin: [Lanes; 3],
-    /// `[sx, sy]`, each splatted into four lanes.
-    pub(super) s_lanes: [Lanes; 2],
+    /// `[sx, sy, sz]`, each splatted into four lanes.
+    pub(super) s_lanes: [Lanes; 3],
 }
 
 impl Shear {
@@ -75,7 +75,7 @@ impl Shear {
             axes: [kx, ky, kz],
             s: [sx, sy, sz],
             origin: [o[kx], o[ky], o[kz]].map(Lanes::splat),
-            s_lanes: [sx, sy].map(Lanes::splat),
+            s_lanes: [sx, sy, sz].map(Lanes::splat),
         }
     }
 
@@ -83,9 +83,11 @@ impl Shear {
     /// the watertight test's edge functions do not reject: `coord(k)` gives,
     /// for world axis `k`, each triangle's lanes `(v0[k], v1[k], v2[k], _)`,
     /// and a triangle is rejected when its three edge functions have both
-    /// signs and none is zero, as the scalar test rejects it first.
-    /// The operations are the scalar test's, in the same order, so each
-    /// lane's verdict is bit for bit the scalar one.
+    /// signs and none is zero, as the scalar test rejects it first, or when
+    /// its three vertices lie behind the origin along the ray (each one's
+    /// `z·sz` below zero), where the scalar test's `t` is at most zero. The
+    /// operations are the scalar test's, in the same order, so a triangle
+    /// rejected here is one the scalar test rejects.
     ///
     /// ```
     /// use gridrt_bbox::math::Lanes;
@@ -94,15 +96,16 @@ impl Shear {
     /// let r = Ray::new(Vec3::new(0.25, 0.25, 1.0), Vec3::new(0.0, 0.0, -1.0));
     /// // The unit right triangle in z = 0, moved along x by `dx`: per axis,
     /// // that coordinate of its three vertices.
-    /// let tri = |dx: Real| {
+    /// // that coordinate of its three vertices; at height `z`.
+    /// let tri = |dx: Real, z: Real| {
     ///     [
     ///         Lanes::new(dx, 1.0 + dx, dx, 0.0),
     ///         Lanes::new(0.0, 0.0, 1.0, 0.0),
-    ///         Lanes::ZERO,
+    ///         Lanes::splat(z),
     ///     ]
     /// };
-    /// // Under the ray, beside it, under it again, beside it.
-    /// let four = [tri(0.0), tri(2.0), tri(-0.5), tri(-3.0)];
+    /// // Under the ray, beside it, under it again, above its origin.
+    /// let four = [tri(0.0, 0.0), tri(2.0, 0.0), tri(-0.5, 0.0), tri(0.0, 2.0)];
     /// let mask = Shear::new(&r).triangles_may_hit(|k| four.map(|t| t[k]));
     /// assert_eq!(mask, 0b0101);
     /// ```
@@ -147,7 +150,7 @@ impl Shear {
     fn may_hit_rows(&self, rows: impl Fn(usize) -> [Lanes; 3]) -> u32 {
         let [kx, ky, kz] = self.axes;
         let [ox, oy, oz] = self.origin;
-        let [sx, sy] = self.s_lanes;
+        let [sx, sy, sz] = self.s_lanes;
         let z = rows(kz).map(|c| c - oz);
         let [x, y] = [(rows(kx), ox, sx), (rows(ky), oy, sy)]
             .map(|(c, o, s)| [0, 1, 2].map(|i| (c[i] - o) - s * z[i]));
@@ -161,7 +164,15 @@ impl Shear {
         let neg = e[0].cmplt(z0) | e[1].cmplt(z0) | e[2].cmplt(z0);
         let pos = e[0].cmpgt(z0) | e[1].cmpgt(z0) | e[2].cmpgt(z0);
         let zero = e[0].cmpeq(z0) | e[1].cmpeq(z0) | e[2].cmpeq(z0);
-        !(neg & pos & !zero).bitmask() & 0xf
+        // Behind the origin: every vertex's `z·sz` (its plane's `t` along
+        // the ray) below zero. The hit's `t` is the barycentric mean of
+        // those, each product's sign is exact (or the product zero), and
+        // the full test sums the products weighted by edge functions of
+        // one sign and divides by their sum: its `t` is at most zero, which
+        // it rejects. A surface the ray leaves, and a large floor under
+        // every bounce, end here instead of in the full test.
+        let behind = (z[0] * sz).cmplt(z0) & (z[1] * sz).cmplt(z0) & (z[2] * sz).cmplt(z0);
+        !((neg & pos & !zero) | behind).bitmask() & 0xf
     }
 }
 
@@ -269,6 +280,48 @@ mod tests {
         }
     }
 
+    /// A coordinate on a lattice, so that vertices, origins and
+    /// directions tie and lie on each other's planes.
+    fn lattice() -> impl proptest::strategy::Strategy<Value = Real> {
+        use proptest::strategy::Strategy;
+        (-4i32..=4).prop_map(|i| i as Real * 0.5)
+    }
+
+    fn point() -> impl proptest::strategy::Strategy<Value = Vec3> {
+        use proptest::strategy::Strategy;
+        proptest::array::uniform3(lattice()).prop_map(Vec3::from_array)
+    }
+
+    proptest::proptest! {
+        /// The four-lane rejection drops no triangle that the full test
+        /// hits, whether the triangle lies ahead of the origin, behind it,
+        /// or through it, at any scale and offset.
+        #[test]
+        fn four_lane_rejection_keeps_every_hit(
+            tris in proptest::collection::vec(proptest::array::uniform3(point()), 4),
+            o in point(),
+            d in point(),
+            scale in proptest::sample::select(vec![1.0 as Real, 1e-3, 3e4]),
+            offset in proptest::sample::select(vec![0.0 as Real, 1e5]),
+        ) {
+            let at = |p: Vec3| p * scale + offset;
+            let four: Vec<_> = tris
+                .iter()
+                .map(|&[a, b, c]| super::super::Triangle::new(at(a), at(b), at(c)))
+                .collect();
+            let shear = Shear::new(&Ray::new(at(o), d));
+            let mask = shear.triangles_may_hit(|k| std::array::from_fn(|j| four[j].lanes(k)));
+            for (j, tri) in four.iter().enumerate() {
+                if mask >> j & 1 == 0 {
+                    proptest::prop_assert!(
+                        tri.intersect(&shear, 0.0, Real::INFINITY).is_none(),
+                        "triangle {} rejected but hit", j
+                    );
+                }
+            }
+        }
+    }
+
     #[test]
     fn lanes_hold_the_permuted_origin_and_the_shear_factors() {
         let r = Ray::new(Vec3::new(0.5, -1.5, 2.0), Vec3::new(1.0, -4.0, 2.0));
@@ -276,7 +329,6 @@ mod tests {
         let [kx, ky, kz] = shear.axes;
         let o = r.origin;
         assert_eq!(shear.origin, [o[kx], o[ky], o[kz]].map(Lanes::splat));
-        let [sx, sy, _] = shear.s;
-        assert_eq!(shear.s_lanes, [sx, sy].map(Lanes::splat));
+        assert_eq!(shear.s_lanes, shear.s.map(Lanes::splat));
     }
 }

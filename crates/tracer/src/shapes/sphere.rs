@@ -242,6 +242,7 @@ impl Primitive for Sphere {
             t_max,
             None,
             keep,
+            #[inline(always)]
             |four| data.may_hit(four),
         );
     }
@@ -258,9 +259,17 @@ impl Primitive for Sphere {
         t_min: Real,
         t_max: Real,
     ) -> bool {
-        any_hits_prefiltered(prims, shared, refs, ray, data, t_min, t_max, |four| {
-            data.may_hit(four)
-        })
+        any_hits_prefiltered(
+            prims,
+            shared,
+            refs,
+            ray,
+            data,
+            t_min,
+            t_max,
+            #[inline(always)]
+            |four| data.may_hit(four),
+        )
     }
 
     /// Arvo's test: the squared distance from the centre to the box, against

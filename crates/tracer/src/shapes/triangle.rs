@@ -205,7 +205,7 @@ fn sheared_hit(c: [Lanes; 3], shear: &Shear) -> Option<(Real, Real, Real, bool)>
     // of x, y, z is vertex i. z stays unscaled until a hit needs it.
     let [kx, ky, kz] = shear.axes;
     let [ox, oy, oz] = shear.origin;
-    let [sx, sy] = shear.s_lanes;
+    let [sx, sy, _] = shear.s_lanes;
     let sz = shear.s[2];
     let z = c[kz] - oz;
     let x = (c[kx] - ox) - sx * z;
@@ -411,6 +411,7 @@ impl Primitive for Triangle {
             t_max,
             Some(best),
             keep,
+            #[inline(always)]
             |four| Self::may_hit_four(four, shear),
         );
     }
@@ -429,9 +430,17 @@ impl Primitive for Triangle {
         t_max: Real,
     ) -> bool {
         prefetch_cell(prims, refs);
-        any_hits_prefiltered(prims, shared, refs, ray, shear, t_min, t_max, |four| {
-            Self::may_hit_four(four, shear)
-        })
+        any_hits_prefiltered(
+            prims,
+            shared,
+            refs,
+            ray,
+            shear,
+            t_min,
+            t_max,
+            #[inline(always)]
+            |four| Self::may_hit_four(four, shear),
+        )
     }
 
     /// The separating-axis test of Akenine-Möller (2001), with a rounding
