@@ -283,9 +283,9 @@ impl Aabb {
         // Widen the exit by 2·γ(3) of its magnitude. A tiny direction
         // component can overflow `far` to −∞, and then `far + |far|·w` is
         // −∞ + ∞ = NaN, which the comparisons below would silently skip (a
-        // false hit): the maximum returns its second operand, −∞, when the
-        // first is NaN.
-        let far = (far + far.abs() * widen).max(far);
+        // false hit): `max_gt` returns its second operand, −∞, when the
+        // first is NaN, on every target (`max` propagates the NaN on some).
+        let far = (far + far.abs() * widen).max_gt(far);
         // Parallel to the slab (an infinite reciprocal): inside it for all t,
         // or never. The range test is false for a NaN origin too.
         let parallel = inv.abs().cmpeq(Vec3Lanes::INFINITY);
