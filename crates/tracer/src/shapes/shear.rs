@@ -86,7 +86,8 @@ impl Shear {
     /// signs and none is zero, as the scalar test rejects it first, or when
     /// its three vertices lie behind the origin along the ray (each one's
     /// `z·sz` below zero), where the scalar test's `t` is at most zero. The
-    /// operations are the scalar test's, in the same order, so a triangle
+    /// edge functions are the scalar test's operations in the same order,
+    /// and a product's sign is exact (or the product zero), so a triangle
     /// rejected here is one the scalar test rejects.
     ///
     /// ```
