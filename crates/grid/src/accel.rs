@@ -152,15 +152,15 @@ pub trait Primitive: Sync {
     }
 
     /// Which of the primitives packed in `four` (bit `k` for the `k`-th)
-    /// the ray whose [`RayData`](Self::RayData) is `data` may hit; each is
+    /// `ray`, whose [`RayData`](Self::RayData) is `data`, may hit; each is
     /// then tested with [`closest_hit`](Self::closest_hit) or
     /// [`any_hit`](Self::any_hit). It must never clear the bit of a
     /// primitive those would hit (the same rejection, with the same
     /// operations in the same order, guarantees it); bits past the packed
     /// primitives are ignored. The default rejects none.
     #[inline]
-    fn four_may_hit(four: &Self::Four, data: &Self::RayData) -> u32 {
-        let _ = (four, data);
+    fn four_may_hit(four: &Self::Four, ray: &Ray, data: &Self::RayData) -> u32 {
+        let _ = (four, ray, data);
         0xf
     }
 

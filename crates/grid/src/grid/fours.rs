@@ -31,10 +31,11 @@ pub(super) fn pack_fours<P: Primitive>(
 #[inline(always)]
 fn kept<'a, P: Primitive>(
     four: &P::Four,
+    ray: &Ray,
     data: &P::RayData,
     refs: &'a [u32],
 ) -> impl Iterator<Item = u32> + 'a {
-    let mut pass = P::four_may_hit(four, data) & ((1u32 << refs.len().min(4)) - 1);
+    let mut pass = P::four_may_hit(four, ray, data) & ((1u32 << refs.len().min(4)) - 1);
     std::iter::from_fn(move || {
         (pass != 0).then(|| {
             let r = refs[pass.trailing_zeros() as usize];
@@ -52,7 +53,7 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
     pub(super) fn test_fours(&mut self, fours: &[P::Four], refs: &[u32]) {
         self.counters.tests(refs.len());
         for (four, chunk) in fours.iter().zip(refs.chunks(4)) {
-            for r in kept::<P>(four, self.data, chunk) {
+            for r in kept::<P>(four, self.ray, self.data, chunk) {
                 // The body of `Closest::test` without its count, written out:
                 // a helper shared with `test` compiled to 10% more
                 // instructions on the Cornell box's camera rays.
@@ -84,7 +85,7 @@ pub(super) fn any_in_fours<P: Primitive>(
     t_max: Real,
 ) -> bool {
     fours.iter().zip(refs.chunks(4)).any(|(four, chunk)| {
-        kept::<P>(four, data, chunk)
+        kept::<P>(four, ray, data, chunk)
             .any(|r| prims[r as usize].any_hit(shared, ray, data, t_min, t_max))
     })
 }

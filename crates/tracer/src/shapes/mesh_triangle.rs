@@ -2,7 +2,7 @@
 //! meshes when memory matters more than the last few percent of speed.
 
 use super::triangle::{intersect_lanes, surface_point};
-use super::{overlap, Shear, Surface, SurfacePoint, TriangleFour};
+use super::{overlap, LazyShear, Shear, Surface, SurfacePoint, TriangleFour};
 use gridrt_bbox::math::{LaneMat, Lanes};
 use gridrt_bbox::{Aabb, Ray, Real, Vec3};
 use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primitive};
@@ -250,8 +250,9 @@ impl Primitive for MeshTriangle {
     /// The vertex array.
     type Shared = MeshVertices;
 
-    /// The ray's shear frame.
-    type RayData = Shear;
+    /// The ray's shear frame, made at the query's first triangle test
+    /// ([`LazyShear`]).
+    type RayData = LazyShear;
 
     /// Four triangles' vertices coordinate by coordinate.
     type Four = TriangleFour;
@@ -259,8 +260,8 @@ impl Primitive for MeshTriangle {
     const PACKS_FOUR: bool = true;
 
     #[inline]
-    fn ray_data(ray: &Ray) -> Shear {
-        Shear::new(ray)
+    fn ray_data(_: &Ray) -> LazyShear {
+        LazyShear::default()
     }
 
     fn pack_four(four: [Option<&Self>; 4], verts: &MeshVertices) -> TriangleFour {
@@ -269,8 +270,8 @@ impl Primitive for MeshTriangle {
 
     /// The rejection of `closest_hits`, read from the packed rows.
     #[inline(always)]
-    fn four_may_hit(four: &TriangleFour, shear: &Shear) -> u32 {
-        shear.four_may_hit(four)
+    fn four_may_hit(four: &TriangleFour, ray: &Ray, shear: &LazyShear) -> u32 {
+        shear.of(ray).four_may_hit(four)
     }
 
     #[inline]
@@ -285,11 +286,12 @@ impl Primitive for MeshTriangle {
     fn closest_hit(
         &self,
         verts: &MeshVertices,
-        _: &Ray,
-        shear: &Shear,
+        ray: &Ray,
+        shear: &LazyShear,
         t_min: Real,
         t_max: Real,
     ) -> Option<PrimHit> {
+        let shear = shear.of(ray);
         let [a, b, c] = [
             self.vertex_lanes(verts, 0),
             self.vertex_lanes(verts, 1),
@@ -309,19 +311,24 @@ impl Primitive for MeshTriangle {
         verts: &MeshVertices,
         refs: &[u32],
         ray: &Ray,
-        shear: &Shear,
+        lazy: &LazyShear,
         t_min: Real,
         t_max: Real,
         _best: u32,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
+        if refs.is_empty() {
+            // Nothing to test: the frame stays unmade.
+            return;
+        }
         verts.prefetch_cell(prims, refs);
+        let shear = lazy.of(ray);
         closest_hits_prefiltered(
             prims,
             verts,
             refs,
             ray,
-            shear,
+            lazy,
             t_min,
             t_max,
             None,
@@ -338,17 +345,22 @@ impl Primitive for MeshTriangle {
         verts: &MeshVertices,
         refs: &[u32],
         ray: &Ray,
-        shear: &Shear,
+        lazy: &LazyShear,
         t_min: Real,
         t_max: Real,
     ) -> bool {
+        if refs.is_empty() {
+            // Nothing to test: the frame stays unmade.
+            return false;
+        }
         verts.prefetch_cell(prims, refs);
+        let shear = lazy.of(ray);
         any_hits_prefiltered(
             prims,
             verts,
             refs,
             ray,
-            shear,
+            lazy,
             t_min,
             t_max,
             #[inline(always)]
@@ -399,6 +411,34 @@ mod tests {
         for (t, b) in tris.iter().zip(&before) {
             assert_eq!(t.vertices(&v2), *b);
         }
+    }
+
+    #[test]
+    fn the_frame_is_made_at_the_first_triangle_test_only() {
+        let verts = MeshVertices::new([Vec3::ZERO, Vec3::X, Vec3::Y]);
+        let tris = MeshTriangle::from_indices(&verts, &[[0, 1, 2]]).unwrap();
+        let r = Ray::new(Vec3::new(0.25, 0.25, 1.0), -Vec3::Z);
+        let data = MeshTriangle::ray_data(&r);
+        assert!(!MeshTriangle::any_hits(
+            &tris,
+            &verts,
+            &[],
+            &r,
+            &data,
+            0.0,
+            9.0
+        ));
+        assert!(!data.is_made());
+        assert!(MeshTriangle::any_hits(
+            &tris,
+            &verts,
+            &[0],
+            &r,
+            &data,
+            0.0,
+            9.0
+        ));
+        assert!(data.is_made());
     }
 
     #[test]

@@ -125,7 +125,7 @@ impl Primitive for Shape {
         match self {
             Shape::Sphere(s) => s.closest_hit(&(), ray, &Sphere::ray_data(ray), t_min, t_max),
             Shape::Cuboid(c) => c.closest_hit(&(), ray, &(), t_min, t_max),
-            Shape::Triangle(t) => t.closest_hit(&(), ray, shear.of(ray), t_min, t_max),
+            Shape::Triangle(t) => t.closest_hit(&(), ray, shear, t_min, t_max),
             Shape::MtTriangle(t) => t.closest_hit(&(), ray, &(), t_min, t_max),
             Shape::Instance(i) => i.closest_hit(&(), ray, &(), t_min, t_max),
         }
@@ -136,7 +136,7 @@ impl Primitive for Shape {
         match self {
             Shape::Sphere(s) => s.any_hit(&(), ray, &Sphere::ray_data(ray), t_min, t_max),
             Shape::Cuboid(c) => c.any_hit(&(), ray, &(), t_min, t_max),
-            Shape::Triangle(t) => t.any_hit(&(), ray, shear.of(ray), t_min, t_max),
+            Shape::Triangle(t) => t.any_hit(&(), ray, shear, t_min, t_max),
             Shape::MtTriangle(t) => t.any_hit(&(), ray, &(), t_min, t_max),
             Shape::Instance(i) => i.any_hit(&(), ray, &(), t_min, t_max),
         }

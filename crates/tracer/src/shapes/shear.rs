@@ -1,6 +1,7 @@
 //! The per-ray part of the watertight ray–triangle test: the ray's shear
-//! frame, computed once per query ([`Primitive::ray_data`] of [`Triangle`]
-//! and [`Shape`]) and handed to every triangle test of that query.
+//! frame, computed once per query, at its first triangle test ([`LazyShear`],
+//! the [`Primitive::ray_data`] of [`Triangle`], `MeshTriangle` and
+//! [`Shape`]), and handed to every triangle test of that query.
 //!
 //! [`Primitive::ray_data`]: gridrt_grid::Primitive::ray_data
 //! [`Triangle`]: super::Triangle
@@ -16,8 +17,8 @@ use gridrt_bbox::{Ray, Real, Vec3};
 /// with `(x, y, z)` the permuted `p − origin`, a point `p` sits at
 /// `(x − sx·z, y − sy·z, sz·z)`, and the ray's points at `(0, 0, t)`.
 ///
-/// It is what [`Triangle`](super::Triangle) computes once per ray (its
-/// [`Primitive::RayData`](gridrt_grid::Primitive::RayData), as Embree's
+/// It is what [`Triangle`](super::Triangle) computes once per ray (inside
+/// its [`Primitive::RayData`](gridrt_grid::Primitive::RayData), as Embree's
 /// `WoopPrecalculations1`): the frame, and the origin and shear factors
 /// splatted into four lanes for testing four triangles at a time
 /// ([`Shear::triangles_may_hit`]).
@@ -213,17 +214,77 @@ impl TriangleFour {
 }
 
 /// A ray's [`Shear`], computed on first use and kept for the rest of the
-/// query: the per-ray data of [`Shape`](super::Shape), whose grids may
-/// hold no triangle at all.
-#[derive(Clone, Debug, Default)]
-pub struct LazyShear(std::cell::OnceCell<Shear>);
+/// query: the per-ray data of [`Triangle`](super::Triangle),
+/// [`MeshTriangle`](super::MeshTriangle) and [`Shape`](super::Shape). A
+/// ray that crosses only empty cells (most camera rays of a sparse scene
+/// seen from afar), or whose grid holds no triangle, never pays for it.
+pub struct LazyShear {
+    made: std::cell::Cell<bool>,
+    shear: std::cell::UnsafeCell<std::mem::MaybeUninit<Shear>>,
+}
 
 impl LazyShear {
     /// The shear frame of `ray` (the query's ray: every call of one query
-    /// must pass the same).
-    #[inline]
+    /// must pass the same). Made in place on first use (a `OnceCell`
+    /// builds it aside, copies it in and is never inlined: 30 more
+    /// instructions a ray).
+    #[inline(always)]
     pub fn of(&self, ray: &Ray) -> &Shear {
-        self.0.get_or_init(|| Shear::new(ray))
+        if !self.made.get() {
+            // SAFETY: before `made` is set no reference to the frame has
+            // been handed out, `Shear::new` cannot reach this cell, and the
+            // type is not `Sync` (its `Cell`): nothing else reads or writes
+            // the frame while it is written.
+            unsafe { (*self.shear.get()).write(Shear::new(ray)) };
+            self.made.set(true);
+        }
+        // SAFETY: `made` is set, so the frame is written, and it is never
+        // written again.
+        unsafe { (*self.shear.get()).assume_init_ref() }
+    }
+
+    /// Whether the frame has been made.
+    #[must_use]
+    pub fn is_made(&self) -> bool {
+        self.made.get()
+    }
+
+    /// The frame, if made.
+    fn get(&self) -> Option<&Shear> {
+        if !self.made.get() {
+            return None;
+        }
+        // SAFETY: as in `of`: a set `made` means a written frame, never
+        // written again.
+        Some(unsafe { (*self.shear.get()).assume_init_ref() })
+    }
+}
+
+impl Default for LazyShear {
+    #[inline(always)]
+    fn default() -> Self {
+        Self {
+            made: std::cell::Cell::new(false),
+            shear: std::cell::UnsafeCell::new(std::mem::MaybeUninit::uninit()),
+        }
+    }
+}
+
+impl Clone for LazyShear {
+    fn clone(&self) -> Self {
+        let copy = Self::default();
+        if let Some(&s) = self.get() {
+            // SAFETY: `copy` is new and not shared.
+            unsafe { (*copy.shear.get()).write(s) };
+            copy.made.set(true);
+        }
+        copy
+    }
+}
+
+impl std::fmt::Debug for LazyShear {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("LazyShear").field(&self.get()).finish()
     }
 }
 
@@ -236,7 +297,9 @@ mod tests {
     fn lazy_shear_is_the_rays_shear_made_once() {
         let r = Ray::new(Vec3::new(0.5, -2.0, 3.0), Vec3::new(-0.3, 0.2, -1.0));
         let lazy = LazyShear::default();
+        assert!(!lazy.is_made());
         let first: *const Shear = lazy.of(&r);
+        assert!(lazy.is_made());
         assert_eq!(*lazy.of(&r), Shear::new(&r));
         assert!(std::ptr::eq(first, lazy.of(&r)));
     }

@@ -175,8 +175,8 @@ impl Primitive for Sphere {
 
     /// The rejection of `closest_hits`, read from the packed lanes.
     #[inline(always)]
-    fn four_may_hit(four: &SphereFour, ray: &SphereRay) -> u32 {
-        ray.may_hit_packed(four)
+    fn four_may_hit(four: &SphereFour, _: &Ray, data: &SphereRay) -> u32 {
+        data.may_hit_packed(four)
     }
 
     #[inline]

@@ -1,4 +1,4 @@
-use super::{overlap, unit_or, Shear, Surface, SurfacePoint, TriangleFour};
+use super::{overlap, unit_or, LazyShear, Shear, Surface, SurfacePoint, TriangleFour};
 use gridrt_bbox::math::Lanes;
 use gridrt_bbox::{gamma, Aabb, Ray, Real, Vec3};
 use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primitive};
@@ -41,9 +41,10 @@ use gridrt_grid::{any_hits_prefiltered, closest_hits_prefiltered, PrimHit, Primi
 /// use gridrt_grid::{Primitive, Ray, Real, Vec3};
 /// let tri = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
 /// let ray = Ray::new(Vec3::new(0.25, 0.5, 1.0), -Vec3::Z);
-/// let shear = Triangle::ray_data(&ray); // once per ray: `Shear::new(&ray)`
-/// assert_eq!(shear, Shear::new(&ray));
+/// // Once per ray; `Shear::new(&ray)` at the first test that needs it.
+/// let shear = Triangle::ray_data(&ray);
 /// let h = tri.closest_hit(&(), &ray, &shear, 0.0, Real::INFINITY).unwrap();
+/// assert_eq!(*shear.of(&ray), Shear::new(&ray));
 /// assert_eq!((h.t, h.u, h.v), (1.0, 0.25, 0.5));
 /// assert_eq!(tri.vertices(), [Vec3::ZERO, Vec3::X, Vec3::Y]);
 /// ```
@@ -340,8 +341,10 @@ impl Primitive for Triangle {
     /// Nothing shared: the primitive holds all it needs.
     type Shared = ();
 
-    /// The ray's shear frame.
-    type RayData = Shear;
+    /// The ray's shear frame, made at the query's first triangle test
+    /// ([`LazyShear`]): a ray that crosses only empty cells never pays
+    /// for it.
+    type RayData = LazyShear;
 
     /// Four triangles coordinate by coordinate.
     type Four = TriangleFour;
@@ -349,8 +352,8 @@ impl Primitive for Triangle {
     const PACKS_FOUR: bool = true;
 
     #[inline]
-    fn ray_data(ray: &Ray) -> Shear {
-        Shear::new(ray)
+    fn ray_data(_: &Ray) -> LazyShear {
+        LazyShear::default()
     }
 
     fn pack_four(four: [Option<&Self>; 4], _: &()) -> TriangleFour {
@@ -359,8 +362,8 @@ impl Primitive for Triangle {
 
     /// The rejection of `closest_hits`, read from the packed rows.
     #[inline(always)]
-    fn four_may_hit(four: &TriangleFour, shear: &Shear) -> u32 {
-        shear.four_may_hit(four)
+    fn four_may_hit(four: &TriangleFour, ray: &Ray, shear: &LazyShear) -> u32 {
+        shear.of(ray).four_may_hit(four)
     }
 
     #[inline]
@@ -373,12 +376,12 @@ impl Primitive for Triangle {
     fn closest_hit(
         &self,
         _: &(),
-        _: &Ray,
-        shear: &Shear,
+        ray: &Ray,
+        shear: &LazyShear,
         t_min: Real,
         t_max: Real,
     ) -> Option<PrimHit> {
-        self.intersect(shear, t_min, t_max)
+        self.intersect(shear.of(ray), t_min, t_max)
     }
 
     /// Four triangles at a time: the edge functions of `closest_hit` in
@@ -394,19 +397,24 @@ impl Primitive for Triangle {
         shared: &(),
         refs: &[u32],
         ray: &Ray,
-        shear: &Shear,
+        lazy: &LazyShear,
         t_min: Real,
         t_max: Real,
         best: u32,
         keep: &mut impl FnMut(u32, PrimHit) -> Real,
     ) {
+        if refs.is_empty() {
+            // Nothing to test: the frame stays unmade.
+            return;
+        }
         prefetch_cell(prims, refs);
+        let shear = lazy.of(ray);
         closest_hits_prefiltered(
             prims,
             shared,
             refs,
             ray,
-            shear,
+            lazy,
             t_min,
             t_max,
             Some(best),
@@ -425,17 +433,22 @@ impl Primitive for Triangle {
         shared: &(),
         refs: &[u32],
         ray: &Ray,
-        shear: &Shear,
+        lazy: &LazyShear,
         t_min: Real,
         t_max: Real,
     ) -> bool {
+        if refs.is_empty() {
+            // Nothing to test: the frame stays unmade.
+            return false;
+        }
         prefetch_cell(prims, refs);
+        let shear = lazy.of(ray);
         any_hits_prefiltered(
             prims,
             shared,
             refs,
             ray,
-            shear,
+            lazy,
             t_min,
             t_max,
             #[inline(always)]
@@ -528,6 +541,22 @@ mod tests {
     /// The shear frame of the ray from `o` along `d`.
     fn frame(o: [Real; 3], d: [Real; 3]) -> Shear {
         Shear::new(&ray(o, d))
+    }
+
+    #[test]
+    fn the_frame_is_made_at_the_first_triangle_test_only() {
+        let tris = [Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y)];
+        let r = ray([0.25, 0.25, 1.0], [0.0, 0.0, -1.0]);
+        let data = Triangle::ray_data(&r);
+        let mut keep = |_: u32, h: PrimHit| h.t;
+        // A cell without references, as the walk's empty list of
+        // unbounded primitives, tests nothing.
+        Triangle::closest_hits(&tris, &(), &[], &r, &data, 0.0, 9.0, NO_SLOT, &mut keep);
+        assert!(!Triangle::any_hits(&tris, &(), &[], &r, &data, 0.0, 9.0));
+        assert!(!data.is_made());
+        assert!(Triangle::any_hits(&tris, &(), &[0], &r, &data, 0.0, 9.0));
+        assert!(data.is_made());
+        assert_eq!(*data.of(&r), Shear::new(&r));
     }
 
     #[test]
@@ -663,7 +692,8 @@ mod tests {
             let dir = Vec3::new(0.3 + x, -1.0, 0.5 - x);
             let target = base + step * (3.0 * x);
             let r = Ray::new(target - dir * 7.0, dir);
-            if let Some(h) = line.closest_hit(&(), &r, &Shear::new(&r), 0.0, Real::INFINITY) {
+            if let Some(h) = line.closest_hit(&(), &r, &Triangle::ray_data(&r), 0.0, Real::INFINITY)
+            {
                 hits += 1;
                 let n = line.surface(&(), &r, &h).n;
                 assert!((n.length() - 1.0).abs() < 1e-5, "{n}");
@@ -740,7 +770,7 @@ mod tests {
             let origin = Vec3::new(o[0] as Real, o[1] as Real, o[2] as Real + 5.0);
             let target = Vec3::new(through[0] as Real, through[1] as Real, through[2] as Real) * 0.5;
             let r = Ray::new(origin, target - origin);
-            let shear = Shear::new(&r);
+            let shear = Triangle::ray_data(&r);
             // `best`: the reference whose hit was seen before, not tested again.
             let all = |batched: bool, best: u32| {
                 let mut hits = Vec::new();
