@@ -681,7 +681,9 @@ impl<P: Primitive> Grid<P> {
             stamp: 0,
             counters,
         };
-        q.test_each(&self.unbounded);
+        if !self.unbounded.is_empty() {
+            q.test_each(&self.unbounded);
+        }
         if direct {
             q.counters.cell();
             if self.fours.is_empty() {
@@ -732,17 +734,19 @@ impl<P: Primitive> Grid<P> {
             return false;
         }
         let data = P::ray_data(ray);
-        counters.tests(self.unbounded.len());
-        if P::any_hits(
-            &self.prims,
-            &self.shared,
-            &self.unbounded,
-            ray,
-            &data,
-            t_min,
-            t_max,
-        ) {
-            return true;
+        if !self.unbounded.is_empty() {
+            counters.tests(self.unbounded.len());
+            if P::any_hits(
+                &self.prims,
+                &self.shared,
+                &self.unbounded,
+                ray,
+                &data,
+                t_min,
+                t_max,
+            ) {
+                return true;
+            }
         }
         if direct {
             counters.cell();
