@@ -33,7 +33,6 @@ pub(crate) fn far_map(dims: [u32; 3], occupied: impl Fn(usize) -> bool) -> Box<[
     // Worked on with a border of one cell that stays `FAR`, so that every
     // cell has all 26 neighbours and the passes test no bounds.
     let [px, py] = [nx + 2, ny + 2];
-    let (sy, sz) = (px as isize, (px * py) as isize);
     let at = |i: usize, j: usize, k: usize| (i + 1) + (j + 1) * px + (k + 1) * px * py;
     let mut far = vec![FAR; px * py * (nz + 2)];
     for k in 0..nz {
@@ -45,37 +44,8 @@ pub(crate) fn far_map(dims: [u32; 3], occupied: impl Fn(usize) -> bool) -> Box<[
             }
         }
     }
-    // The neighbours before a cell in raster order (the 9 of the layer
-    // below, the 3 of the row below, the one on its left), as offsets.
-    let before: Vec<isize> = (-1..=1)
-        .flat_map(|dy| (-1..=1).map(move |dx| dx + dy * sy - sz))
-        .chain((-1..=1).map(|dx| dx - sy))
-        .chain(std::iter::once(-1))
-        .collect();
-    let relax = |far: &mut [u8], c: usize, sign: isize| {
-        if far[c] != 0 {
-            let near = before
-                .iter()
-                .map(|&d| far[c.wrapping_add_signed(d * sign)])
-                .min()
-                .unwrap_or(FAR);
-            far[c] = far[c].min(near.saturating_add(1));
-        }
-    };
-    for k in 0..nz {
-        for j in 0..ny {
-            for i in 0..nx {
-                relax(&mut far, at(i, j, k), 1);
-            }
-        }
-    }
-    for k in (0..nz).rev() {
-        for j in (0..ny).rev() {
-            for i in (0..nx).rev() {
-                relax(&mut far, at(i, j, k), -1);
-            }
-        }
-    }
+    pass(&mut far, [nx, ny, nz], false);
+    pass(&mut far, [nx, ny, nz], true);
     let mut out = Vec::with_capacity(nx * ny * nz);
     for k in 0..nz {
         for j in 0..ny {
@@ -83,6 +53,59 @@ pub(crate) fn far_map(dims: [u32; 3], occupied: impl Fn(usize) -> bool) -> Box<[
         }
     }
     out.into_boxed_slice()
+}
+
+/// One raster pass over the bordered map `far` of a grid of `dims`
+/// cells: forward (layers, rows and cells in increasing order), each cell
+/// taking one more than the least of its 13 neighbours before it (the 9
+/// of the layer below, the 3 of the row below, the one on its left), or
+/// backward, the same in decreasing order from the 13 after it. A row at
+/// a time: the 12 neighbours in other rows are taken for the whole row at
+/// once, in loops the compiler vectorises, and only the neighbour in the
+/// row itself cell by cell.
+fn pass(far: &mut [u8], [nx, ny, nz]: [usize; 3], back: bool) {
+    let [px, py] = [nx + 2, ny + 2];
+    let row = |j: usize, k: usize| (j + k * py) * px;
+    // Per column of the row: the least of the four neighbouring rows, then
+    // one more than the least of three neighbouring columns of that.
+    let mut column = vec![FAR; px];
+    let mut near = vec![FAR; px];
+    for kk in 0..nz {
+        let (k, kn) = if back {
+            (nz - kk, nz - kk + 1)
+        } else {
+            (kk + 1, kk)
+        };
+        for jj in 0..ny {
+            let (j, jn) = if back {
+                (ny - jj, ny - jj + 1)
+            } else {
+                (jj + 1, jj)
+            };
+            let rows = [row(j - 1, kn), row(j, kn), row(j + 1, kn), row(jn, k)];
+            let [a, b, c, d] = rows.map(|r| &far[r..r + px]);
+            for ((((m, a), b), c), d) in column.iter_mut().zip(a).zip(b).zip(c).zip(d) {
+                *m = (*a).min(*b).min(*c).min(*d);
+            }
+            let (l, mid, r) = (&column[..nx], &column[1..=nx], &column[2..]);
+            for (((n, l), m), r) in near[1..=nx].iter_mut().zip(l).zip(mid).zip(r) {
+                *n = (*l).min(*m).min(*r).saturating_add(1);
+            }
+            let cells = &mut far[row(j, k)..row(j, k) + px];
+            // The border cell before the first stays `FAR`.
+            let mut prev = FAR;
+            let mut relax = |i: usize| {
+                let d = cells[i].min(near[i]).min(prev.saturating_add(1));
+                cells[i] = d;
+                prev = d;
+            };
+            if back {
+                (1..=nx).rev().for_each(&mut relax);
+            } else {
+                (1..=nx).for_each(&mut relax);
+            }
+        }
+    }
 }
 
 #[cfg(test)]
