@@ -478,6 +478,17 @@ pub(crate) fn is_gridded(b: &Aabb) -> bool {
     gridded(b).is_some()
 }
 
+/// The smallest box holding `a` and `b`, each a box of a gridded primitive
+/// (finite, `min <= max`: [`is_gridded`]), a box made of such boxes, or
+/// [`Aabb::EMPTY`] (whose infinite corners leave the other box as it is).
+/// [`Aabb::union`] without its tests for empty boxes, which such boxes
+/// never are: the build's folds over many boxes spent a tenth of their time
+/// in them.
+#[inline(always)]
+pub(crate) fn hull(a: Aabb, b: &Aabb) -> Aabb {
+    Aabb::new(a.min.min(b.min), a.max.max(b.max))
+}
+
 /// The longest edge of the box with corners `min` and `max` (as
 /// [`gridded`] gives them).
 #[inline(always)]

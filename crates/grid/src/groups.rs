@@ -30,7 +30,7 @@
 //! and each byte is moved outwards until its plane holds the box.
 
 use crate::cells::Cells;
-use crate::geom::Geom;
+use crate::geom::{hull, Geom};
 use crate::nested::Children;
 use crate::{morton, Primitive};
 use gridrt_bbox::math::{LaneChoice, Lanes};
@@ -264,7 +264,7 @@ impl Groups {
                     .map(|group| clipped_box(prims, shared, group, geom, &cell)),
             );
             // A cell of absurd extent (past `Real::MAX / 255`) keeps none.
-            let span = boxes.iter().fold(Aabb::EMPTY, |u, b| u.union(*b));
+            let span = boxes.iter().fold(Aabb::EMPTY, hull);
             let Some(frame) = Frame::spanning(&span) else {
                 continue;
             };
@@ -387,7 +387,7 @@ fn clipped_box<P: Primitive>(
     cell: &Aabb,
 ) -> Aabb {
     let b = group.iter().fold(Aabb::EMPTY, |b, &r| {
-        b.union(prims[r as usize].bounds(shared))
+        hull(b, &prims[r as usize].bounds(shared))
     });
     let w = geom.widen(&b);
     let clipped = Aabb::new(w.min.max(cell.min), w.max.min(cell.max));
@@ -422,7 +422,7 @@ pub(crate) fn sort_crowded_runs<P: Primitive>(
         }));
         let span = centres
             .iter()
-            .fold(Aabb::EMPTY, |s, &c| s.union(Aabb::new(c, c)));
+            .fold(Aabb::EMPTY, |s, &c| hull(s, &Aabb::new(c, c)));
         let (lo, ext) = (span.min, span.extent());
         // 10 bits per axis of the run's own span.
         let q = |a: usize, c: Real| -> u32 {

@@ -616,7 +616,7 @@ fn plan<P: Primitive>(
         cost::grouped(
             &parent,
             all.chunks(4).map(|four| {
-                let b = four.iter().fold(Aabb::EMPTY, |u, b| u.union(*b));
+                let b = four.iter().fold(Aabb::EMPTY, geom::hull);
                 (clip(b, &parent), four.len())
             }),
         )
