@@ -57,7 +57,7 @@ pub(crate) fn far_map(dims: [u32; 3], occupied: impl Fn(usize) -> bool) -> Box<[
 
 /// One raster pass over the bordered map `far` of a grid of `dims`
 /// cells: forward (layers, rows and cells in increasing order), each cell
-/// taking one more than the least of its 13 neighbours before it (the 9
+/// lowered to one more than the least of its 13 neighbours before it (the 9
 /// of the layer below, the 3 of the row below, the one on its left), or
 /// backward, the same in decreasing order from the 13 after it. A row at
 /// a time: the 12 neighbours in other rows are taken for the whole row at
