@@ -482,8 +482,8 @@ pub(crate) fn is_gridded(b: &Aabb) -> bool {
 /// (finite, `min <= max`: [`is_gridded`]), a box made of such boxes, or
 /// [`Aabb::EMPTY`] (whose infinite corners leave the other box as it is).
 /// [`Aabb::union`] without its tests for empty boxes, which such boxes
-/// never are: the build's folds over many boxes spent a tenth of their time
-/// in them.
+/// never are, for the build's folds over many boxes (3–4% of a triangle
+/// scene's build, measured).
 #[inline(always)]
 pub(crate) fn hull(a: Aabb, b: &Aabb) -> Aabb {
     Aabb::new(a.min.min(b.min), a.max.max(b.max))
