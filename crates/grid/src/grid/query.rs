@@ -329,7 +329,9 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
         let Some(sub) = sub.for_ray(self.ray) else {
             return self.test_refs(sub.far_refs(refs, self.ray, self.t_min, self.t_max));
         };
-        self.test_refs(&sub.direct)?;
+        if !sub.direct.is_empty() {
+            self.test_refs(&sub.direct)?;
+        }
         let entered = || sub.prefetch();
         let Some(dda) = Dda::new_then(&sub.geom, self.ray, self.t_min, self.t_max, entered) else {
             return ControlFlow::Continue(());
