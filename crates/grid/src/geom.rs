@@ -287,11 +287,33 @@ impl Geom {
         let mut lo = [int(lo.x), int(lo.y), int(lo.z)];
         let mut hi = [int(hi.x), int(hi.y), int(hi.z)];
         if self.exact_planes {
-            for a in 0..3 {
-                (lo[a], hi[a]) = self.exact_range(a, lo[a], hi[a], b.min[a], b.max[a]);
-            }
+            self.exact_ranges(&mut lo, &mut hi, b);
         }
         (lo, hi)
+    }
+
+    /// [`Geom::exact_range`] on the three axes of box `b`, whose guessed
+    /// ranges are `[lo, hi]`: the first test of each of its four loops
+    /// inline, and the loops only on an axis where one of them moves a
+    /// guess (seldom: a guess is off by a cell only for a box within a pad
+    /// or so of a plane).
+    #[inline(always)]
+    fn exact_ranges(&self, lo: &mut [u32; 3], hi: &mut [u32; 3], b: &Aabb) {
+        let pad = self.pad * (1.0 + 4.0 * Real::EPSILON);
+        for a in 0..3 {
+            let p = &*self.planes[a];
+            let (l, h, last) = (lo[a], hi[a], self.dims[a] - 1);
+            let (x0, x1) = (b.min[a], b.max[a]);
+            let settled = (l == 0 || !(x0 - p[l as usize] <= pad))
+                && (l == last || x0 - p[l as usize + 1] <= pad)
+                && (h == last || !(p[h as usize + 1] - x1 <= pad))
+                && (h == 0 || p[h as usize] - x1 <= pad);
+            if settled {
+                hi[a] = h.max(l);
+            } else {
+                (lo[a], hi[a]) = self.exact_range(a, l, h, x0, x1);
+            }
+        }
     }
 
     /// The cells along `axis` that the interval `[x0, x1]` widened by the

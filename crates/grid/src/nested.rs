@@ -635,15 +635,24 @@ fn plan<P: Primitive>(
     if dims == [1, 1, 1] {
         return None;
     }
+    let mut geom = Geom::new(cell, dims);
+    // Whether a grid holding `total` references pays, by the estimate (the
+    // pad set below does not enter it).
+    let pays = |geom: &Geom, total: u64| {
+        !p.cost || cost::pays(flat, cost::nested(&parent, geom, total, direct.len()))
+    };
+    // Each reference lies in a cell at least, and the estimate grows with
+    // the references: with one each it bounds the plan's from below, and
+    // most refused plans are refused here, before any cell range.
+    if !pays(&geom, inner.len() as u64) {
+        return None;
+    }
     let span = span_of(cell, &boxes);
-    let mut geom = Geom::new(cell, dims).with_pad(pad_of(g.pad, refs.len(), &cell, dims, &span));
+    geom = geom.with_pad(pad_of(g.pad, refs.len(), &cell, dims, &span));
     geom.slab = p.slab;
     let reach = Reach::new(&span, geom.pad, g.pad);
     let outer = g.widen(&cell);
-    // Whether a grid holding `total` references pays, by the estimate.
-    let pays =
-        |total: u64| !p.cost || cost::pays(flat, cost::nested(&parent, &geom, total, direct.len()));
-    let (offsets, ranges) = layout(&geom, &inner, &boxes, refs.len(), pays)?;
+    let (offsets, ranges) = layout(&geom, &inner, &boxes, refs.len(), |t| pays(&geom, t))?;
     // The chain of wide grids, coarsest first, each holding the next finer.
     let mut wide: Option<Box<Plan>> = None;
     for (mut w, w_reach) in wide_chain(g, refs.len(), &geom, &span).into_iter().rev() {
@@ -688,12 +697,6 @@ fn layout(
     let separates = |total: u64, occupied: usize| {
         total as f64 <= SEPARATION * cell_refs as f64 * occupied as f64
     };
-    // Each reference lies in a cell at least, and the estimate grows with
-    // the references: with one each it bounds the plan's from below, and
-    // most refused plans are refused here, before any cell range.
-    if !pays(inner.len() as u64) {
-        return None;
-    }
     let ranges: Vec<(u32, CellRange)> = inner
         .iter()
         .zip(boxes)
@@ -776,7 +779,7 @@ fn wide_chain(g: &Geom, cell_refs: usize, narrow: &Geom, span: &Aabb) -> Vec<(Ge
 /// What the references' boxes `boxes` of a nested grid over `cell` span
 /// (with the cell): where the rays its pad covers are measured from.
 fn span_of(cell: Aabb, boxes: &[Aabb]) -> Aabb {
-    boxes.iter().fold(cell, |s, b| s.union(*b))
+    boxes.iter().fold(cell, geom::hull)
 }
 
 /// The pad of a nested grid over `bounds` with `dims` cells, in a cell of
@@ -835,7 +838,7 @@ fn fill(plan: &Plan, start: u32, depth: u32) -> Sub {
 /// as good as any.
 pub(crate) fn cover(g: &Geom, idx: [u32; 3], boxes: impl Iterator<Item = Aabb>) -> Aabb {
     clip(
-        boxes.fold(Aabb::EMPTY, Aabb::union),
+        boxes.fold(Aabb::EMPTY, |b, r| geom::hull(b, &r)),
         &g.padded_cell_box(idx),
     )
 }
