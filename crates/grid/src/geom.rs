@@ -598,6 +598,62 @@ mod tests {
         assert_eq!(range_cells(([3, 0, 0], [2, 5, 5])), 0);
     }
 
+    proptest::proptest! {
+        /// Where the planes are checked (a grid far from the origin), a
+        /// box's range on each axis is exactly the cells its definition
+        /// admits, `x0 − planes[i + 1] <= pad` and `planes[i] − x1 <= pad`
+        /// (the pad enlarged by `4ε`), whether the box's faces lie on a
+        /// plane, a few ulps off one or anywhere in a cell.
+        #[test]
+        fn far_cell_ranges_are_the_cells_the_pad_admits(
+            offset in -2.0e5f64..2.0e5,
+            ext in proptest::array::uniform3(0.5f64..64.0),
+            dims in proptest::array::uniform3(1u32..20),
+            faces in proptest::array::uniform3(
+                (0u32..21, -3i32..4, 0u32..21, -3i32..4, 0.0f64..1.0, 0.0f64..1.0)
+            ),
+        ) {
+            let min = Vec3::splat(1.0e5 + offset as Real);
+            let g = Geom::new(Aabb::new(min, min + Vec3::from_array(ext.map(|e| e as Real))), dims);
+            proptest::prop_assume!(g.exact_planes);
+            // A coordinate `ulps` ulps from plane `i`, or `at` of the way
+            // into cell `i`, clamped to the grid.
+            let coord = |a: usize, i: u32, ulps: i32, at: f64, on_plane: bool| {
+                let p = &g.planes[a];
+                let i = i.min(dims[a]) as usize;
+                let mut x = if on_plane || i == dims[a] as usize {
+                    p[i]
+                } else {
+                    p[i] + (p[i + 1] - p[i]) * at as Real
+                };
+                for _ in 0..ulps.unsigned_abs() {
+                    x = if ulps > 0 { next_up(x) } else { next_down(x) };
+                }
+                x.clamp(g.bounds.min[a], g.bounds.max[a])
+            };
+            let mut b = Aabb::EMPTY;
+            for (a, &(i0, u0, i1, u1, at0, at1)) in faces.iter().enumerate() {
+                let x0 = coord(a, i0, u0, at0, at0 < 0.5);
+                let x1 = coord(a, i1, u1, at1, at1 < 0.5);
+                b.min[a] = x0.min(x1);
+                b.max[a] = x0.max(x1);
+            }
+            let (lo, hi) = g.cell_range(&b);
+            let pad = g.pad * (1.0 + 4.0 * Real::EPSILON);
+            for a in 0..3 {
+                let p = &g.planes[a];
+                let admitted: Vec<u32> = (0..dims[a])
+                    .filter(|&i| {
+                        b.min[a] - p[i as usize + 1] <= pad && p[i as usize] - b.max[a] <= pad
+                    })
+                    .collect();
+                let want = (admitted[0], *admitted.last().unwrap());
+                proptest::prop_assert_eq!(want.1 - want.0 + 1, admitted.len() as u32);
+                proptest::prop_assert_eq!((lo[a], hi[a]), want, "axis {} of {:?}", a, b);
+            }
+        }
+    }
+
     #[test]
     fn cell_of_agrees_with_planes() {
         let g = Geom::new(Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0)), [7, 3, 1]);
