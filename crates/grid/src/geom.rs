@@ -299,7 +299,7 @@ impl Geom {
     /// or so of a plane).
     #[inline(always)]
     fn exact_ranges(&self, lo: &mut [u32; 3], hi: &mut [u32; 3], b: &Aabb) {
-        let pad = self.pad * (1.0 + 4.0 * Real::EPSILON);
+        let pad = self.range_pad();
         for a in 0..3 {
             let p = &*self.planes[a];
             let (l, h, last) = (lo[a], hi[a], self.dims[a] - 1);
@@ -316,6 +316,13 @@ impl Geom {
         }
     }
 
+    /// The pad that [`Geom::exact_range`] compares the differences of a
+    /// box's faces and the planes with: enlarged by `4ε`, see there.
+    #[inline(always)]
+    fn range_pad(&self) -> Real {
+        self.pad * (1.0 + 4.0 * Real::EPSILON)
+    }
+
     /// The cells along `axis` that the interval `[x0, x1]` widened by the
     /// pad overlaps, found from the guesses `lo` and `hi` by comparing with
     /// the stored planes: cell `i` is in when `x0 − planes[i + 1] <= pad`
@@ -327,7 +334,7 @@ impl Geom {
     fn exact_range(&self, axis: usize, mut lo: u32, mut hi: u32, x0: Real, x1: Real) -> (u32, u32) {
         let p = &*self.planes[axis];
         let last = self.dims[axis] - 1;
-        let pad = self.pad * (1.0 + 4.0 * Real::EPSILON);
+        let pad = self.range_pad();
         while lo > 0 && x0 - p[lo as usize] <= pad {
             lo -= 1;
         }
@@ -603,7 +610,7 @@ mod tests {
         /// box's range on each axis is exactly the cells its definition
         /// admits, `x0 − planes[i + 1] <= pad` and `planes[i] − x1 <= pad`
         /// (the pad enlarged by `4ε`), whether the box's faces lie on a
-        /// plane, a few ulps off one or anywhere in a cell.
+        /// plane, a few ulps off one, or in the upper half of a cell.
         #[test]
         fn far_cell_ranges_are_the_cells_the_pad_admits(
             offset in -2.0e5f64..2.0e5,
@@ -616,8 +623,9 @@ mod tests {
             let min = Vec3::splat(1.0e5 + offset as Real);
             let g = Geom::new(Aabb::new(min, min + Vec3::from_array(ext.map(|e| e as Real))), dims);
             proptest::prop_assume!(g.exact_planes);
-            // A coordinate `ulps` ulps from plane `i`, or `at` of the way
-            // into cell `i`, clamped to the grid.
+            // A coordinate `ulps` ulps from plane `i` or from the point `at`
+            // of the way into cell `i` (`at` of 0.5 or more), clamped to
+            // the grid.
             let coord = |a: usize, i: u32, ulps: i32, at: f64, on_plane: bool| {
                 let p = &g.planes[a];
                 let i = i.min(dims[a]) as usize;
@@ -639,7 +647,7 @@ mod tests {
                 b.max[a] = x0.max(x1);
             }
             let (lo, hi) = g.cell_range(&b);
-            let pad = g.pad * (1.0 + 4.0 * Real::EPSILON);
+            let pad = g.range_pad();
             for a in 0..3 {
                 let p = &g.planes[a];
                 let admitted: Vec<u32> = (0..dims[a])
