@@ -304,10 +304,11 @@ impl Geom {
             let p = &*self.planes[a];
             let (l, h, last) = (lo[a], hi[a], self.dims[a] - 1);
             let (x0, x1) = (b.min[a], b.max[a]);
-            let settled = (l == 0 || !(x0 - p[l as usize] <= pad))
-                && (l == last || x0 - p[l as usize + 1] <= pad)
-                && (h == last || !(p[h as usize + 1] - x1 <= pad))
-                && (h == 0 || p[h as usize] - x1 <= pad);
+            let (down, up) = (reaches_down(p, x0, pad), reaches_up(p, x1, pad));
+            let settled = (l == 0 || !down(l - 1))
+                && (l == last || down(l))
+                && (h == last || !up(h + 1))
+                && (h == 0 || up(h));
             if settled {
                 hi[a] = h.max(l);
             } else {
@@ -335,16 +336,17 @@ impl Geom {
         let p = &*self.planes[axis];
         let last = self.dims[axis] - 1;
         let pad = self.range_pad();
-        while lo > 0 && x0 - p[lo as usize] <= pad {
+        let (down, up) = (reaches_down(p, x0, pad), reaches_up(p, x1, pad));
+        while lo > 0 && down(lo - 1) {
             lo -= 1;
         }
-        while lo < last && !(x0 - p[lo as usize + 1] <= pad) {
+        while lo < last && !down(lo) {
             lo += 1;
         }
-        while hi < last && p[hi as usize + 1] - x1 <= pad {
+        while hi < last && up(hi + 1) {
             hi += 1;
         }
-        while hi > 0 && !(p[hi as usize] - x1 <= pad) {
+        while hi > 0 && !up(hi) {
             hi -= 1;
         }
         (lo, hi.max(lo))
@@ -387,6 +389,23 @@ impl Geom {
         }
         b
     }
+}
+
+/// Whether cell `i` of the axis with `planes` reaches down to `x0` widened
+/// by `pad`: `x0 − planes[i + 1] <= pad` (the test of a range's low end in
+/// [`Geom::exact_range`]).
+#[inline(always)]
+fn reaches_down(planes: &[Real], x0: Real, pad: Real) -> impl Fn(u32) -> bool + '_ {
+    #[inline(always)]
+    move |i| x0 - planes[i as usize + 1] <= pad
+}
+
+/// Whether cell `i` of the axis with `planes` reaches up to `x1` widened
+/// by `pad`: `planes[i] − x1 <= pad` (the test of a range's high end).
+#[inline(always)]
+fn reaches_up(planes: &[Real], x1: Real, pad: Real) -> impl Fn(u32) -> bool + '_ {
+    #[inline(always)]
+    move |i| planes[i as usize] - x1 <= pad
 }
 
 /// How many cells the inclusive range `[lo, hi]` of [`Geom::cell_range`]
