@@ -19,9 +19,13 @@
 //! (4) the memory budget has taken every grid planned before it: the first
 //! nested grid the budget cannot take ends the build (planning the rest,
 //! as a scene of many detailed objects would ask, would cost more build
-//! time than the grids built). A grid is not built at all when its cells
-//! would hold on average more than [`SEPARATION`] of the references (nothing
-//! separates them: walking it would cost more than testing them), or when
+//! time than the grids built); a plan whose references alone would not
+//! fit in what is left of the budget is refused (as one that does not
+//! pay) before its cells are counted, a step per reference and cell it
+//! covers (billions around the common vertex of a fan of 10⁵ triangles).
+//! A grid is not built at all when its cells would hold on average more
+//! than [`SEPARATION`] of the references (nothing separates them: walking
+//! it would cost more than testing them), or when
 //! more than [`MAX_HEAVY`] of its cells would each hold more than
 //! [`PROGRESS`] of them (an unseparated core, as around the common vertex
 //! of a fan: a ray crossing two such cells would test more than the cell
@@ -71,6 +75,8 @@
 //! finds the nearest hit inside the cell, ties included.
 
 mod check;
+#[cfg(test)]
+mod tests;
 
 use crate::cells::dense_occupancy;
 use crate::cost;
@@ -447,10 +453,11 @@ impl Nested {
                     refs += cands[b1].len as usize;
                     b1 += 1;
                 }
+                let room = p.budget - used;
                 let plans = map_indices(b1 - b0, p.parallel, |i| {
                     let c = &cands[b0 + i];
                     let (g, refs) = refs_of(c);
-                    plan(prims, shared, g, c, refs, p)
+                    plan(prims, shared, g, c, refs, p, room)
                 });
                 // Granted in order, so the same grids are built whatever
                 // the threads and the batches.
@@ -595,8 +602,9 @@ fn split<'r>(
 }
 
 /// Plans the nested grid of candidate cell `c` of grid `g`, whose
-/// references are `refs`; `None` when it would not separate them, or, if
-/// it must shrink, when they cover more than [`SHRINK`] of the cell's area.
+/// references are `refs`, with `room` bytes of the budget left; `None`
+/// when it would not separate them or not fit in `room`, or, if it must
+/// shrink, when they cover more than [`SHRINK`] of the cell's area.
 fn plan<P: Primitive>(
     prims: &[P],
     shared: &P::Shared,
@@ -604,6 +612,7 @@ fn plan<P: Primitive>(
     c: &Candidate,
     refs: &[u32],
     p: &NestParams,
+    room: usize,
 ) -> Option<Plan> {
     let idx = c.idx;
     let parent = g.padded_cell_box(idx);
@@ -652,12 +661,12 @@ fn plan<P: Primitive>(
     geom.slab = p.slab;
     let reach = Reach::new(&span, geom.pad, g.pad);
     let outer = g.widen(&cell);
-    let (offsets, ranges) = layout(&geom, &inner, &boxes, refs.len(), |t| pays(&geom, t))?;
+    let (offsets, ranges) = layout(&geom, &inner, &boxes, refs.len(), room, |t| pays(&geom, t))?;
     // The chain of wide grids, coarsest first, each holding the next finer.
     let mut wide: Option<Box<Plan>> = None;
     for (mut w, w_reach) in wide_chain(g, refs.len(), &geom, &span).into_iter().rev() {
         w.slab = p.slab;
-        let Some((offsets, ranges)) = layout(&w, &inner, &boxes, refs.len(), |_| true) else {
+        let Some((offsets, ranges)) = layout(&w, &inner, &boxes, refs.len(), room, |_| true) else {
             continue;
         };
         wide = Some(Box::new(Plan {
@@ -684,12 +693,14 @@ fn plan<P: Primitive>(
 /// Where the references `inner` (boxes `boxes`) of a cell of `cell_refs`
 /// references fall in `geom`: the offsets of its cells and each
 /// reference's cell range; `None` when the grid would not separate them
-/// or, by `pays`, would not pay for the references it holds.
+/// or, by `pays`, would not pay for the references it holds, or when its
+/// references and offsets alone would take more than `room` bytes.
 fn layout(
     geom: &Geom,
     inner: &[u32],
     boxes: &[Aabb],
     cell_refs: usize,
+    room: usize,
     pays: impl Fn(u64) -> bool,
 ) -> Option<Layout> {
     let count = geom.cell_count() as usize;
@@ -709,6 +720,9 @@ fn layout(
     let total: u64 = ranges.iter().map(|(_, r)| geom::range_cells(*r)).sum();
     // At most every cell is occupied: a bound before the count.
     if !separates(total, count) || !pays(total) {
+        return None;
+    }
+    if 4 * (total + count as u64 + 1) > room as u64 {
         return None;
     }
     let mut offsets = vec![0u32; count + 1];
