@@ -241,3 +241,31 @@ proptest! {
         run(scene, &all_configs(), &rays);
     }
 }
+
+/// A zero-area triangle (three collinear lattice points) that a ray
+/// crosses, found by `shared_edges_and_vertices` in `f64`: two of its
+/// edge functions round to zero, and only their exact signs put the hit
+/// where the ray crosses it (t = 7) rather than at a vertex's depth.
+#[test]
+#[allow(clippy::excessive_precision)] // the f64 ray of the case (rounded in f32)
+fn a_ray_through_a_zero_area_triangle() {
+    let v = |x: Real, y: Real, z: Real| Vec3::new(x, y, z);
+    let mut scene = pins();
+    scene.push(Shape::Triangle(Triangle::new(
+        v(0.0, 0.0, 0.0),
+        v(0.0, 4.0, -4.0),
+        v(0.0, -4.0, 4.0),
+    )));
+    scene.push(Shape::Triangle(Triangle::new(
+        v(-4.0, -4.0, 0.0),
+        v(-4.0, -4.0, -4.0),
+        v(4.0, 0.0, 4.0),
+    )));
+    let rays = [(
+        v(5.601734542429038, -6.978210308029009, -2.0286462409218466),
+        v(-0.8002477917755769, 0.8540300440041442, 0.43266374870312097),
+        0.0,
+        Real::INFINITY,
+    )];
+    run(scene, &aligned_configs(), &rays);
+}

@@ -293,14 +293,14 @@ impl Primitive for Triangle {
         // Lanes 0, 1, 2: cx·by − cy·bx, ax·cy − ay·cx, bx·ay − by·ax.
         let mut e = x.zxyw() * y.yzxw() - y.zxyw() * x.yzxw();
         let any3 = |mask: u32| mask & 7 != 0;
-        // Exactly on an edge: redo the edge functions in double precision.
+        // Exactly on an edge: redo the edge functions with exact signs.
         if any3(e.cmpeq(Lanes::ZERO).bitmask()) {
             let [ax, bx, cx, _] = x.to_array().map(|r| r as f64);
             let [ay, by, cy, _] = y.to_array().map(|r| r as f64);
             e = Lanes::new(
-                (cx * by - cy * bx) as Real,
-                (ax * cy - ay * cx) as Real,
-                (bx * ay - by * ax) as Real,
+                exact_difference(cx, by, cy, bx) as Real,
+                exact_difference(ax, cy, ay, cx) as Real,
+                exact_difference(bx, ay, by, ax) as Real,
                 0.0,
             );
         }
@@ -442,4 +442,19 @@ impl Primitive for Shape {
             Shape::Triangle(t) => t.overlaps_box(&(), cell),
         }
     }
+}
+
+/// `p·q − r·s` with its exact sign: in `f64` the products of `f32` values
+/// are exact and the difference rounds once; with `f64` values, products
+/// that round to the same value differ by their rounding errors, which
+/// fused multiply–adds give exactly. (Without it, three collinear
+/// vertices whose edge functions round to 0, 0 and a speck pass the sign
+/// test with barycentrics (0, 0, 1): a hit at one vertex's depth, outside
+/// the triangle's box, where a grid cannot find it.)
+fn exact_difference(p: f64, q: f64, r: f64, s: f64) -> f64 {
+    let d = p * q - r * s;
+    if d != 0.0 || cfg!(not(feature = "f64")) {
+        return d;
+    }
+    p.mul_add(q, -(p * q)) - r.mul_add(s, -(r * s))
 }
