@@ -9,6 +9,9 @@ use gridrt_grid::{GridConfig, Ray, Real, Vec3};
 use proptest::prelude::*;
 
 /// `cases` cases, or `PROPTEST_CASES` when set (for a long soak run).
+/// A failing case is kept (proptest's default persistence) in
+/// `proptest-regressions/equivalence.txt` beside `tests/` and run first
+/// from then on, so that a rare failure is never lost with a run's output.
 fn cfg(cases: u32) -> ProptestConfig {
     let cases = std::env::var("PROPTEST_CASES")
         .ok()
@@ -16,7 +19,6 @@ fn cfg(cases: u32) -> ProptestConfig {
         .unwrap_or(cases);
     ProptestConfig {
         cases,
-        failure_persistence: None,
         ..ProptestConfig::default()
     }
 }

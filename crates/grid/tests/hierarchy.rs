@@ -46,10 +46,12 @@ fn configs() -> Vec<GridConfig> {
     v
 }
 
+/// `n` cases; a failing one is kept in
+/// `proptest-regressions/hierarchy.txt` beside `tests/` and run first from
+/// then on.
 fn cases(n: u32) -> ProptestConfig {
     ProptestConfig {
         cases: n,
-        failure_persistence: None,
         ..ProptestConfig::default()
     }
 }
