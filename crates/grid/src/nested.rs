@@ -183,6 +183,10 @@ pub(crate) struct Sub {
     /// the rays the parent covers. A ray beyond the reach of the whole
     /// chain of wide grids tests those references only if it meets it.
     pub outer: Aabb,
+    /// The hull of `outer` and of the entry box of every grid of the chain
+    /// ([`cull_box`]): a ray that misses it finds nothing in the cell but
+    /// the `direct` references ([`Sub::misses`]).
+    pub cull: Aabb,
     /// `offsets[c]..offsets[c + 1]` are nested cell `c`'s references
     /// (row-major), indices of the outer grid's primitives.
     pub offsets: Box<[u32]>,
@@ -216,6 +220,22 @@ impl Sub {
             s = s.wide.as_deref()?;
         }
         Some(s)
+    }
+
+    /// Whether a ray over `[t_min, t_max]` certainly finds nothing in its
+    /// cell: it has no direct references and the ray misses [`Sub::cull`].
+    /// The robust slab test of a box inside another misses whenever the
+    /// other's does (its crossings round monotonically), so every path of
+    /// the walk would end at its first box test; deciding it before the
+    /// walk's call spares a ray passing beside a small detailed object in a
+    /// large cell the call and the choice of a grid in the chain.
+    #[inline(always)]
+    pub(crate) fn misses(&self, ray: &gridrt_bbox::Ray, t_min: Real, t_max: Real) -> bool {
+        self.direct.is_empty()
+            && self
+                .cull
+                .hit_with(self.geom.slab, ray, t_min, t_max)
+                .is_none()
     }
 
     /// The references of its cell `refs` that a ray beyond the reach of
@@ -830,19 +850,27 @@ fn fill(plan: &Plan, start: u32, depth: u32) -> Sub {
             next[c] += 1;
         });
     }
+    let wide = plan.wide.as_ref().map(|w| Box::new(fill(w, start, depth)));
     Sub {
         start,
         geom: plan.geom.clone(),
         reach: plan.reach,
         outer: plan.outer,
+        cull: cull_box(&plan.outer, &plan.geom, wide.as_deref()),
         occ: dense_occupancy(&plan.offsets),
         offsets: plan.offsets.clone().into_boxed_slice(),
         refs: out.into_boxed_slice(),
         direct: plan.direct.clone().into_boxed_slice(),
         children: Children::default(),
         depth,
-        wide: plan.wide.as_ref().map(|w| Box::new(fill(w, start, depth))),
+        wide,
     }
+}
+
+/// The hull of `outer` and of the entry boxes of a grid `geom` and of
+/// its chain of wide grids from `wide` ([`Sub::cull`]).
+fn cull_box(outer: &Aabb, geom: &Geom, wide: Option<&Sub>) -> Aabb {
+    geom::hull(wide.map_or(*outer, |w| w.cull), &geom.entry)
 }
 
 /// What the nested grid of cell `idx` of grid `g` spans: the union of its

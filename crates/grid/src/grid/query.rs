@@ -161,7 +161,10 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for Closest<'_, P
         if let Some(i) = self.children.find(refs.len(), start) {
             // SAFETY: `Children::find` returns arena indices of `subs`
             // (checked by `check_invariants`).
-            self.walk_sub(unsafe { self.subs.get_unchecked(i) }, refs);
+            let sub = unsafe { self.subs.get_unchecked(i) };
+            if !sub.misses(self.ray, self.t_min, self.t_lim) {
+                self.walk_sub(sub, refs);
+            }
         } else if let Some((frame, blocks)) = self.groups.and_then(|g| g.of(refs.len(), start)) {
             self.test_groups(frame, blocks, refs);
         } else {
@@ -252,7 +255,11 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for AnyHit<'_, P,
         let start = run_start(self.refs, refs);
         if let Some(i) = self.children.find(refs.len(), start) {
             // SAFETY: as in the closest-hit query.
-            return self.walk_sub(unsafe { self.subs.get_unchecked(i) }, refs);
+            let sub = unsafe { self.subs.get_unchecked(i) };
+            if sub.misses(self.ray, self.t_min, self.t_max) {
+                return ControlFlow::Continue(());
+            }
+            return self.walk_sub(sub, refs);
         }
         if let Some((frame, blocks)) = self.groups.and_then(|g| g.of(refs.len(), start)) {
             return self.test_groups(frame, blocks, refs);

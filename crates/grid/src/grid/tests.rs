@@ -357,10 +357,19 @@ fn a_ray_beyond_every_reach_tests_a_cluster_only_if_it_meets_its_box() {
         missing.tests_per_ray()
     );
     assert!(aimed.tests_per_ray() >= 1.0);
-    // `check_invariants` refuses a box that was not widened.
+    // `check_invariants` refuses a box that was not widened, and a box
+    // that culls the cell and is not the hull of that box and of the
+    // chain's entry boxes.
     let mut g = g;
     let sub = &mut g.nested.subs[0];
+    let outer = sub.outer;
     sub.outer = sub.geom.bounds;
+    assert!(g.check_invariants().is_err());
+    let sub = &mut g.nested.subs[0];
+    sub.outer = outer;
+    g.check_invariants().expect("the box restored");
+    let sub = &mut g.nested.subs[0];
+    sub.cull = sub.geom.bounds;
     assert!(g.check_invariants().is_err());
 }
 

@@ -1,6 +1,8 @@
 //! The nested grids' self-checks, for [`crate::Grid::check_invariants`].
 
-use super::{boxes_of, cover, pad_of, span_of, split, wide_chain, CellRuns, Children, Nested, Sub};
+use super::{
+    boxes_of, cover, cull_box, pad_of, span_of, split, wide_chain, CellRuns, Children, Nested, Sub,
+};
 use crate::geom::{Geom, Reach};
 use crate::Primitive;
 
@@ -47,6 +49,11 @@ impl Nested {
             }
             if sub.outer != g.widen(&sg.bounds) {
                 return Err(format!("cell {idx:?}: box for rays beyond reach wrong"));
+            }
+            for s in std::iter::once(sub).chain(sub.wide_grids()) {
+                if s.cull != cull_box(&sub.outer, &s.geom, s.wide.as_deref()) {
+                    return Err(format!("cell {idx:?}: box that culls the cell wrong"));
+                }
             }
             let own = check_cells(prims, shared, idx, sub, &inner)?;
             // The wide grids: a chain of those `wide_chain` plans, in order
