@@ -3,7 +3,7 @@
 //! where a cell begins and ends.
 
 use crate::morton;
-use gridrt_bbox::math::{Lanes, Vec3Lanes};
+use gridrt_bbox::math::{LaneChoice, Lanes, Vec3Lanes};
 use gridrt_bbox::{Aabb, Real, SlabTest, Vec3};
 
 /// The insertion pad, in units of `Real::EPSILON` times the largest extent
@@ -273,19 +273,15 @@ impl Geom {
     /// parts cover, so such a primitive is in the cells on both sides.
     #[inline(always)]
     pub(crate) fn cell_range(&self, b: &Aabb) -> ([u32; 3], [u32; 3]) {
-        // In `Vec3`s, whose `clamp` takes NaN to the lower end on every
-        // target (SIMD lanes' `max` does not on all).
-        let [min, inv, last] = self.lanes.map(Vec3::from);
-        let (x0, x1) = (b.min - self.pad, b.max + self.pad);
-        let lo = ((x0 - min) * inv).clamp(Vec3::ZERO, last);
-        let hi = ((x1 - min) * inv).clamp(Vec3::ZERO, last);
-        // SAFETY: clamped to `[0, dims − 1]` (NaN clamps to 0), so each value
-        // is finite and fits an `i32` (at most 2^21 cells per axis); the
-        // conversion truncates. (A signed conversion is one instruction,
-        // an unsigned one several.)
-        let int = |v: Real| unsafe { v.to_int_unchecked::<i32>() as u32 };
-        let mut lo = [int(lo.x), int(lo.y), int(lo.z)];
-        let mut hi = [int(hi.x), int(hi.y), int(hi.z)];
+        // In lanes, each operation rounded as in `Vec3`s, so the very
+        // values of a scalar computation; `max_gt` takes NaN to 0 on every
+        // target (its second operand), as a scalar clamp does.
+        let [min, inv, last] = self.lanes;
+        let pad = Vec3Lanes::splat(self.pad);
+        let (x0, x1) = (Vec3Lanes::from(b.min) - pad, Vec3Lanes::from(b.max) + pad);
+        let clamp = |v: Vec3Lanes| v.max_gt(Vec3Lanes::ZERO).min_lt(last);
+        let mut lo = truncate(clamp((x0 - min) * inv));
+        let mut hi = truncate(clamp((x1 - min) * inv));
         if self.exact_planes {
             self.exact_ranges(&mut lo, &mut hi, b);
         }
@@ -554,6 +550,27 @@ pub(crate) fn gridded(b: &Aabb) -> Option<(Lanes, Lanes)> {
         .then_some((min, max))
 }
 
+/// The lanes of `v`, each in `[0, 2^21]` (a cell index clamped to the
+/// last cell), truncated to integers: one conversion for the three on x86.
+#[inline(always)]
+fn truncate(v: Vec3Lanes) -> [u32; 3] {
+    #[cfg(all(not(feature = "f64"), target_arch = "x86_64"))]
+    {
+        use std::arch::x86_64::_mm_cvttps_epi32;
+        // SAFETY: SSE2 is part of x86-64; `cvttps2dq` truncates each lane,
+        // and the lanes fit an `i32`, so the bits are the integers'.
+        let i: [i32; 4] = unsafe { std::mem::transmute(_mm_cvttps_epi32(v.into())) };
+        [i[0] as u32, i[1] as u32, i[2] as u32]
+    }
+    #[cfg(not(all(not(feature = "f64"), target_arch = "x86_64")))]
+    {
+        // SAFETY: finite and within an `i32` (above). (A signed conversion
+        // is one instruction, an unsigned one several.)
+        let int = |x: Real| unsafe { x.to_int_unchecked::<i32>() as u32 };
+        [int(v.x), int(v.y), int(v.z)]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -676,6 +693,37 @@ mod tests {
                     .collect();
                 let want = (admitted[0], *admitted.last().unwrap());
                 proptest::prop_assert_eq!(want.1 - want.0 + 1, admitted.len() as u32);
+                proptest::prop_assert_eq!((lo[a], hi[a]), want, "axis {} of {:?}", a, b);
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// Near the origin (no plane checks), a box's range on each axis is
+        /// the scalar formula's, `(x ∓ pad − min) · inv` clamped to
+        /// `[0, dims − 1]` and truncated, for boxes inside, across and
+        /// beyond the grid: the lanes round as scalars do.
+        #[test]
+        fn cell_ranges_are_the_scalar_formulas(
+            min in proptest::array::uniform3(-50.0f64..50.0),
+            ext in proptest::array::uniform3(0.01f64..64.0),
+            dims in proptest::array::uniform3(1u32..40),
+            from in proptest::array::uniform3(-1.5f64..2.5),
+            size in proptest::array::uniform3(0.0f64..1.5),
+        ) {
+            let min = Vec3::from_array(min.map(|x| x as Real));
+            let g = Geom::new(Aabb::new(min, min + Vec3::from_array(ext.map(|e| e as Real))), dims);
+            proptest::prop_assume!(!g.exact_planes);
+            let e = g.bounds.extent();
+            let at = |f: [f64; 3]| {
+                Vec3::from_array(std::array::from_fn(|a| g.bounds.min[a] + e[a] * f[a] as Real))
+            };
+            let b = Aabb::new(at(from), at(std::array::from_fn(|a| from[a] + size[a])));
+            let (lo, hi) = g.cell_range(&b);
+            for a in 0..3 {
+                let last = (dims[a] - 1) as Real;
+                let cell = |x: Real| ((x - g.bounds.min[a]) * g.inv_cell[a]).clamp(0.0, last) as u32;
+                let want = (cell(b.min[a] - g.pad), cell(b.max[a] + g.pad));
                 proptest::prop_assert_eq!((lo[a], hi[a]), want, "axis {} of {:?}", a, b);
             }
         }
