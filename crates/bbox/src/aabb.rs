@@ -264,6 +264,23 @@ impl Aabb {
     #[inline(always)]
     #[must_use]
     pub fn hit(&self, ray: &Ray, t_min: Real, t_max: Real) -> Option<(Real, Real)> {
+        self.hit_prepared(&SlabRay::new(ray), t_min, t_max)
+    }
+
+    /// [`Aabb::hit`] for a ray prepared once for many boxes: the same
+    /// operations in the same order, so the very same answer.
+    ///
+    /// ```
+    /// use gridrt_bbox::{Aabb, Ray, SlabRay, Vec3};
+    /// let r = Ray::new(Vec3::new(0.0, 0.5, 2.0), Vec3::new(-0.0, 0.0, -1.0));
+    /// let pre = SlabRay::new(&r);
+    /// for b in [Aabb::new(Vec3::ZERO, Vec3::ONE), Aabb::new(Vec3::X, Vec3::splat(2.0))] {
+    ///     assert_eq!(b.hit_prepared(&pre, 0.0, 10.0), b.hit(&r, 0.0, 10.0));
+    /// }
+    /// ```
+    #[inline(always)]
+    #[must_use]
+    pub fn hit_prepared(&self, ray: &SlabRay, t_min: Real, t_max: Real) -> Option<(Real, Real)> {
         debug_assert!(
             !t_min.is_nan() && !t_max.is_nan(),
             "t range must not be NaN"
@@ -273,7 +290,7 @@ impl Aabb {
         // exits, so that a loop of tests pipelines well; `cargo bench -p
         // gridrt-bbox` measures it), then folded into the range axis by axis.
         let (lo, hi) = (Vec3Lanes::from(self.min), Vec3Lanes::from(self.max));
-        let (o, inv) = (Vec3Lanes::from(ray.origin), Vec3Lanes::from(ray.inv_dir));
+        let (o, inv) = (ray.origin, ray.inv);
         let empty = lo.cmpgt(hi).any();
         let t_lo = (lo - o) * inv;
         let t_hi = (hi - o) * inv;
@@ -285,14 +302,17 @@ impl Aabb {
         // −∞ + ∞ = NaN, which the comparisons below would silently skip (a
         // false hit): `max_gt` returns its second operand, −∞, when the
         // first is NaN, on every target (`max` propagates the NaN on some).
-        let far = (far + far.abs() * widen).max_gt(far);
-        // Parallel to the slab (an infinite reciprocal): inside it for all t,
-        // or never. The range test is false for a NaN origin too.
-        let parallel = inv.abs().cmpeq(Vec3Lanes::INFINITY);
-        let inside = lo.cmple(o) & o.cmple(hi);
-        let (all, none) = (Vec3Lanes::INFINITY, Vec3Lanes::NEG_INFINITY);
-        let near = Vec3Lanes::select(parallel, Vec3Lanes::select(inside, none, all), near);
-        let far = Vec3Lanes::select(parallel, Vec3Lanes::select(inside, all, none), far);
+        let mut far = (far + far.abs() * widen).max_gt(far);
+        let mut near = near;
+        if ray.parallel {
+            // Parallel to a slab (an infinite reciprocal): inside it for all
+            // t, or never. The range test is false for a NaN origin too.
+            let parallel = inv.abs().cmpeq(Vec3Lanes::INFINITY);
+            let inside = lo.cmple(o) & o.cmple(hi);
+            let (all, none) = (Vec3Lanes::INFINITY, Vec3Lanes::NEG_INFINITY);
+            near = Vec3Lanes::select(parallel, Vec3Lanes::select(inside, none, all), near);
+            far = Vec3Lanes::select(parallel, Vec3Lanes::select(inside, all, none), far);
+        }
         // Written so that a NaN `near` or `far` leaves t0/t1 unchanged.
         let (mut t0, mut t1) = (t_min, t_max);
         for (near, far) in near.to_array().into_iter().zip(far.to_array()) {
@@ -349,6 +369,31 @@ impl Aabb {
         match test {
             SlabTest::Robust => self.hit(ray, t_min, t_max),
             SlabTest::Textbook => self.hit_textbook(ray, t_min, t_max),
+        }
+    }
+}
+
+/// A ray as the robust slab test reads it, prepared once to be tested
+/// against many boxes ([`Aabb::hit_prepared`]): its origin and reciprocal
+/// direction in SIMD lanes, and whether it is parallel to some slab (an
+/// infinite reciprocal), the rare case that needs more than the lanes.
+#[derive(Clone, Copy, Debug)]
+pub struct SlabRay {
+    origin: Vec3Lanes,
+    inv: Vec3Lanes,
+    parallel: bool,
+}
+
+impl SlabRay {
+    /// `ray` prepared for the slab test.
+    #[inline(always)]
+    #[must_use]
+    pub fn new(ray: &Ray) -> Self {
+        let inv = Vec3Lanes::from(ray.inv_dir);
+        Self {
+            origin: Vec3Lanes::from(ray.origin),
+            inv,
+            parallel: inv.abs().cmpeq(Vec3Lanes::INFINITY).any(),
         }
     }
 }

@@ -25,7 +25,7 @@ mod aabb;
 pub mod math;
 mod ray;
 
-pub use aabb::{Aabb, SlabTest};
+pub use aabb::{Aabb, SlabRay, SlabTest};
 pub use math::{gamma, Real, Vec3};
 pub use ray::Ray;
 

@@ -9,7 +9,7 @@
 
 use crate::geom::Geom;
 use gridrt_bbox::math::{LaneChoice, Vec3Lanes};
-use gridrt_bbox::{Ray, Real};
+use gridrt_bbox::{Ray, Real, SlabRay};
 use std::ops::ControlFlow;
 
 const INF: Real = Real::INFINITY;
@@ -196,10 +196,11 @@ impl<'g> Dda<'g> {
     /// sign of the zero.
     #[inline(always)]
     pub(crate) fn new(g: &'g Geom, ray: &Ray, t_min: Real, t_max: Real) -> Option<Self> {
-        Self::new_then(g, ray, t_min, t_max, || ())
+        Self::new_then(g, ray, &SlabRay::new(ray), t_min, t_max, || ())
     }
 
-    /// [`Dda::new`], calling `entered` once the ray is known to cross the
+    /// [`Dda::new`] for the ray prepared as `pre`, calling `entered` once
+    /// the ray is known to cross the
     /// grid's box, before the set-up reads the grid's planes: where a
     /// nested grid prefetches its arrays, so that the rays that miss its
     /// box (most, in a sparse scene) do not.
@@ -207,6 +208,7 @@ impl<'g> Dda<'g> {
     pub(crate) fn new_then(
         g: &'g Geom,
         ray: &Ray,
+        pre: &SlabRay,
         t_min: Real,
         t_max: Real,
         entered: impl FnOnce(),
@@ -214,7 +216,7 @@ impl<'g> Dda<'g> {
         if g.is_empty() || !(t_min <= t_max) {
             return None;
         }
-        let (t0, t1) = g.entry.hit_with(g.slab, ray, t_min, t_max)?;
+        let (t0, t1) = g.slab_hit(&g.entry, ray, pre, t_min, t_max)?;
         entered();
         Some(Self::start_lanes(g, ray, t0, t1).unwrap_or_else(|| Self::start_exact(g, ray, t0, t1)))
     }

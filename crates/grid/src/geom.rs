@@ -4,7 +4,7 @@
 
 use crate::morton;
 use gridrt_bbox::math::{LaneChoice, Lanes, Vec3Lanes};
-use gridrt_bbox::{Aabb, Real, SlabTest, Vec3};
+use gridrt_bbox::{Aabb, Ray, Real, SlabRay, SlabTest, Vec3};
 
 /// The insertion pad, in units of `Real::EPSILON` times the largest extent
 /// of the outermost grid box (nested grids narrow it: [`crate::nested`]).
@@ -260,6 +260,23 @@ impl Geom {
                 i += 1;
             }
             i
+        }
+    }
+
+    /// Box `b` under the slab test of this grid's queries ([`Geom::slab`]):
+    /// the robust one on `pre`, the ray prepared once per query.
+    #[inline(always)]
+    pub(crate) fn slab_hit(
+        &self,
+        b: &Aabb,
+        ray: &Ray,
+        pre: &SlabRay,
+        t_min: Real,
+        t_max: Real,
+    ) -> Option<(Real, Real)> {
+        match self.slab {
+            SlabTest::Robust => b.hit_prepared(pre, t_min, t_max),
+            SlabTest::Textbook => b.hit_textbook(ray, t_min, t_max),
         }
     }
 

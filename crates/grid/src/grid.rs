@@ -9,7 +9,7 @@ use crate::geom::{self, Geom};
 use crate::groups::{Groups, Run, GROUP_MIN_REFS};
 use crate::nested::{NestParams, Nested};
 use crate::{morton, Accelerator, CellStorage, GridConfig, GridStats, Hit, Primitive};
-use gridrt_bbox::{Aabb, Ray, Real};
+use gridrt_bbox::{Aabb, Ray, Real, SlabRay};
 use std::ops::ControlFlow;
 use std::time::Instant;
 
@@ -659,7 +659,8 @@ impl<P: Primitive> Grid<P> {
         }
         // The primitives' ray data only for a ray that has something to
         // test: one that enters the grid, or any with unbounded primitives.
-        let (dda, direct) = self.enter(ray, t_min, t_max);
+        let slab = SlabRay::new(ray);
+        let (dda, direct) = self.enter(ray, &slab, t_min, t_max);
         if dda.is_none() && !direct && self.unbounded.is_empty() {
             return None;
         }
@@ -673,6 +674,7 @@ impl<P: Primitive> Grid<P> {
             groups: Some(&self.groups),
             subs: &self.nested.subs,
             ray,
+            slab,
             data: &data,
             t_min,
             t_lim: t_max,
@@ -706,12 +708,12 @@ impl<P: Primitive> Grid<P> {
     /// Where a query over `[t_min, t_max]` enters the grid: the walk's
     /// start, or for a direct grid whether the ray meets its box.
     #[inline(always)]
-    fn enter(&self, ray: &Ray, t_min: Real, t_max: Real) -> (Option<Dda<'_>>, bool) {
+    fn enter(&self, ray: &Ray, pre: &SlabRay, t_min: Real, t_max: Real) -> (Option<Dda<'_>>, bool) {
+        let g = &self.geom;
         if self.direct {
-            let g = &self.geom;
-            (None, g.entry.hit_with(g.slab, ray, t_min, t_max).is_some())
+            (None, g.slab_hit(&g.entry, ray, pre, t_min, t_max).is_some())
         } else {
-            (Dda::new(&self.geom, ray, t_min, t_max), false)
+            (Dda::new_then(g, ray, pre, t_min, t_max, || ()), false)
         }
     }
 
@@ -729,7 +731,8 @@ impl<P: Primitive> Grid<P> {
             return false;
         }
         // Ray data only for a ray with something to test (as in `closest`).
-        let (dda, direct) = self.enter(ray, t_min, t_max);
+        let slab = SlabRay::new(ray);
+        let (dda, direct) = self.enter(ray, &slab, t_min, t_max);
         if dda.is_none() && !direct && self.unbounded.is_empty() {
             return false;
         }
@@ -784,6 +787,7 @@ impl<P: Primitive> Grid<P> {
             groups: Some(&self.groups),
             subs: &self.nested.subs,
             ray,
+            slab,
             data: &data,
             t_min,
             t_max,

@@ -84,7 +84,7 @@ use crate::geom::{self, Geom, Reach, PAD_ULPS};
 use crate::groups::GROUP_MIN_REFS;
 use crate::par::map_indices;
 use crate::{NestLevel, Primitive};
-use gridrt_bbox::{Aabb, Real};
+use gridrt_bbox::{Aabb, Ray, Real, SlabRay};
 use std::borrow::Cow;
 
 /// Most cells of one nested grid.
@@ -230,11 +230,11 @@ impl Sub {
     /// walk's call spares a ray passing beside a small detailed object in a
     /// large cell the call and the choice of a grid in the chain.
     #[inline(always)]
-    pub(crate) fn misses(&self, ray: &gridrt_bbox::Ray, t_min: Real, t_max: Real) -> bool {
+    pub(crate) fn misses(&self, ray: &Ray, pre: &SlabRay, t_min: Real, t_max: Real) -> bool {
         self.direct.is_empty()
             && self
-                .cull
-                .hit_with(self.geom.slab, ray, t_min, t_max)
+                .geom
+                .slab_hit(&self.cull, ray, pre, t_min, t_max)
                 .is_none()
     }
 

@@ -7,7 +7,7 @@ use crate::dda::{CellFn, CellVisit, Dda};
 use crate::groups::{Frame, GroupBlock, Groups, RaySlabs};
 use crate::nested::{Children, Sub};
 use crate::{Hit, Primitive};
-use gridrt_bbox::{Ray, Real};
+use gridrt_bbox::{Ray, Real, SlabRay};
 use std::ops::ControlFlow;
 
 /// Where the run `cell` of the grid's references `all` starts among them.
@@ -43,6 +43,8 @@ pub(super) struct Closest<'q, P: Primitive, C, const MB: bool> {
     /// Every nested grid.
     pub(super) subs: &'q [Sub],
     pub(super) ray: &'q Ray,
+    /// `ray` prepared for the slab tests of nested grids' boxes.
+    pub(super) slab: SlabRay,
     /// The primitives' [`Primitive::ray_data`] of `ray`.
     pub(super) data: &'q P::RayData,
     pub(super) t_min: Real,
@@ -122,7 +124,9 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
             self.test_refs(&sub.direct);
         }
         let entered = || sub.prefetch();
-        let Some(dda) = Dda::new_then(&sub.geom, self.ray, self.t_min, self.t_lim, entered) else {
+        let Some(dda) = Dda::new_then(
+            &sub.geom, self.ray, &self.slab, self.t_min, self.t_lim, entered,
+        ) else {
             return;
         };
         let lookup = sub.lookup();
@@ -135,6 +139,7 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
             groups: None,
             subs: self.subs,
             ray: self.ray,
+            slab: self.slab,
             data: self.data,
             t_min: self.t_min,
             t_lim: self.t_lim,
@@ -162,7 +167,7 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for Closest<'_, P
             // SAFETY: `Children::find` returns arena indices of `subs`
             // (checked by `check_invariants`).
             let sub = unsafe { self.subs.get_unchecked(i) };
-            if !sub.misses(self.ray, self.t_min, self.t_lim) {
+            if !sub.misses(self.ray, &self.slab, self.t_min, self.t_lim) {
                 self.walk_sub(sub, refs);
             }
         } else if let Some((frame, blocks)) = self.groups.and_then(|g| g.of(refs.len(), start)) {
@@ -234,6 +239,8 @@ pub(super) struct AnyHit<'q, P: Primitive, C, const MB: bool> {
     /// Every nested grid.
     pub(super) subs: &'q [Sub],
     pub(super) ray: &'q Ray,
+    /// `ray` prepared for the slab tests of nested grids' boxes.
+    pub(super) slab: SlabRay,
     /// The primitives' [`Primitive::ray_data`] of `ray`.
     pub(super) data: &'q P::RayData,
     pub(super) t_min: Real,
@@ -256,7 +263,7 @@ impl<'a, P: Primitive, C: Counters, const MB: bool> CellFn<'a> for AnyHit<'_, P,
         if let Some(i) = self.children.find(refs.len(), start) {
             // SAFETY: as in the closest-hit query.
             let sub = unsafe { self.subs.get_unchecked(i) };
-            if sub.misses(self.ray, self.t_min, self.t_max) {
+            if sub.misses(self.ray, &self.slab, self.t_min, self.t_max) {
                 return ControlFlow::Continue(());
             }
             return self.walk_sub(sub, refs);
@@ -340,7 +347,9 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
             self.test_refs(&sub.direct)?;
         }
         let entered = || sub.prefetch();
-        let Some(dda) = Dda::new_then(&sub.geom, self.ray, self.t_min, self.t_max, entered) else {
+        let Some(dda) = Dda::new_then(
+            &sub.geom, self.ray, &self.slab, self.t_min, self.t_max, entered,
+        ) else {
             return ControlFlow::Continue(());
         };
         let lookup = sub.lookup();
@@ -352,6 +361,7 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
             groups: None,
             subs: self.subs,
             ray: self.ray,
+            slab: self.slab,
             data: self.data,
             t_min: self.t_min,
             t_max: self.t_max,
