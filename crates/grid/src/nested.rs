@@ -246,18 +246,14 @@ impl Sub {
     pub(crate) fn far_refs<'r>(
         &'r self,
         refs: &'r [u32],
-        ray: &gridrt_bbox::Ray,
+        ray: &Ray,
+        pre: &SlabRay,
         t_min: Real,
         t_max: Real,
     ) -> &'r [u32] {
-        if self
-            .outer
-            .hit_with(self.geom.slab, ray, t_min, t_max)
-            .is_some()
-        {
-            refs
-        } else {
-            &self.direct
+        match self.geom.slab_hit(&self.outer, ray, pre, t_min, t_max) {
+            Some(_) => refs,
+            None => &self.direct,
         }
     }
 

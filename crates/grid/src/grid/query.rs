@@ -118,7 +118,8 @@ impl<P: Primitive, C: Counters, const MB: bool> Closest<'_, P, C, MB> {
     #[inline(never)]
     fn walk_sub(&mut self, sub: &Sub, refs: &[u32]) {
         let Some(sub) = sub.for_ray(self.ray) else {
-            return self.test_refs(sub.far_refs(refs, self.ray, self.t_min, self.t_lim));
+            return self
+                .test_refs(sub.far_refs(refs, self.ray, &self.slab, self.t_min, self.t_lim));
         };
         if !sub.direct.is_empty() {
             self.test_refs(&sub.direct);
@@ -341,7 +342,8 @@ impl<P: Primitive, C: Counters, const MB: bool> AnyHit<'_, P, C, MB> {
     #[inline(never)]
     fn walk_sub(&mut self, sub: &Sub, refs: &[u32]) -> ControlFlow<()> {
         let Some(sub) = sub.for_ray(self.ray) else {
-            return self.test_refs(sub.far_refs(refs, self.ray, self.t_min, self.t_max));
+            return self
+                .test_refs(sub.far_refs(refs, self.ray, &self.slab, self.t_min, self.t_max));
         };
         if !sub.direct.is_empty() {
             self.test_refs(&sub.direct)?;
