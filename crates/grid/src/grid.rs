@@ -8,7 +8,9 @@ use crate::empty_space;
 use crate::geom::{self, Geom};
 use crate::groups::{Groups, Run, GROUP_MIN_REFS};
 use crate::nested::{NestParams, Nested};
-use crate::{morton, Accelerator, CellStorage, GridConfig, GridStats, Hit, Primitive};
+use crate::{
+    any_hits_each, morton, Accelerator, CellStorage, GridConfig, GridStats, Hit, Primitive,
+};
 use gridrt_bbox::{Aabb, Ray, Real, SlabRay};
 use std::ops::ControlFlow;
 use std::time::Instant;
@@ -683,7 +685,13 @@ impl<P: Primitive> Grid<P> {
             stamp: 0,
             counters,
         };
-        if !self.unbounded.is_empty() {
+        if self.unbounded.len() < 4 {
+            // A few (a floor's two triangles, say) cost less one by one
+            // than gathered four-wide.
+            for &r in self.unbounded.iter() {
+                q.test(r);
+            }
+        } else {
             q.test_each(&self.unbounded);
         }
         if direct {
@@ -739,15 +747,14 @@ impl<P: Primitive> Grid<P> {
         let data = P::ray_data(ray);
         if !self.unbounded.is_empty() {
             counters.tests(self.unbounded.len());
-            if P::any_hits(
-                &self.prims,
-                &self.shared,
-                &self.unbounded,
-                ray,
-                &data,
-                t_min,
-                t_max,
-            ) {
+            let (prims, shared) = (&*self.prims, &self.shared);
+            let hit = if self.unbounded.len() < 4 {
+                // One by one, as in `closest`.
+                any_hits_each(prims, shared, &self.unbounded, ray, &data, t_min, t_max)
+            } else {
+                P::any_hits(prims, shared, &self.unbounded, ray, &data, t_min, t_max)
+            };
+            if hit {
                 return true;
             }
         }

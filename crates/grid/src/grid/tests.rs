@@ -394,7 +394,16 @@ fn cluster_on_ground(big: usize) -> Vec<Ball> {
 
 #[test]
 fn outsized_primitives_are_set_aside_and_the_answers_stay_exact() {
-    let prims = cluster_on_ground(3);
+    // Fewer than four are tested one by one, more four at a time.
+    for big in 1..=5 {
+        set_aside_answers_are_exact(big);
+    }
+}
+
+fn set_aside_answers_are_exact(big: usize) {
+    let prims = cluster_on_ground(big);
+    let twin = (big > 1).then_some(prims.len() as u32 - 1);
+    let aside: Vec<u32> = std::iter::once(0).chain(2001..).take(big).collect();
     let e = Exhaustive::new(prims.clone());
     let mut seed = 5;
     for storage in [CellStorage::Dense, CellStorage::Hashed] {
@@ -406,8 +415,8 @@ fn outsized_primitives_are_set_aside_and_the_answers_stay_exact() {
             };
             let g = Grid::build(prims.clone(), &config);
             g.check_invariants().expect("invariants");
-            assert_eq!(g.unbounded_primitives(), vec![0, 2001, 2002]);
-            assert_eq!(g.stats().unbounded_prims, 3);
+            assert_eq!(g.unbounded_primitives(), aside);
+            assert_eq!(g.stats().unbounded_prims, big as u64);
             // The grid spans the small balls, not the ground.
             assert!(g.geom.bounds.extent().max_element() < 1.1);
             let mut sc = g.scratch();
@@ -434,7 +443,7 @@ fn outsized_primitives_are_set_aside_and_the_answers_stay_exact() {
                     Some(0) => ground += 1,
                     Some(p) => {
                         // The ground's twin (last) never wins a tie.
-                        assert!(p != 2002);
+                        assert!(Some(p) != twin);
                         small += usize::from(p <= 2000);
                     }
                     None => {}
