@@ -33,6 +33,10 @@ use slots::{reorder, slot_order};
 /// lower-index primitive in the next cell, which must be tested too.
 pub(crate) const EXIT_MARGIN: Real = 8.0 * Real::EPSILON;
 
+/// Fewer unbounded (or set-aside) primitives than this are tested one by
+/// one: a floor's two triangles cost less alone than gathered four-wide.
+const ONE_BY_ONE_BELOW: usize = 4;
+
 /// A regular (uniform) grid over primitives it owns (Suffern ch. 22).
 ///
 /// The grid box is the union of the primitives' boxes, cut into
@@ -685,9 +689,7 @@ impl<P: Primitive> Grid<P> {
             stamp: 0,
             counters,
         };
-        if self.unbounded.len() < 4 {
-            // A few (a floor's two triangles, say) cost less one by one
-            // than gathered four-wide.
+        if self.unbounded.len() < ONE_BY_ONE_BELOW {
             for &r in self.unbounded.iter() {
                 q.test(r);
             }
@@ -748,8 +750,7 @@ impl<P: Primitive> Grid<P> {
         if !self.unbounded.is_empty() {
             counters.tests(self.unbounded.len());
             let (prims, shared) = (&*self.prims, &self.shared);
-            let hit = if self.unbounded.len() < 4 {
-                // One by one, as in `closest`.
+            let hit = if self.unbounded.len() < ONE_BY_ONE_BELOW {
                 any_hits_each(prims, shared, &self.unbounded, ray, &data, t_min, t_max)
             } else {
                 P::any_hits(prims, shared, &self.unbounded, ray, &data, t_min, t_max)
